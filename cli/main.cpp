@@ -1,0 +1,42 @@
+// bumprad: the command line. `render` solves a scene and writes its image; `scenes` lists
+// the built-in scenes.
+#include <cstdio>
+#include <iostream>
+#include <string_view>
+#include <vector>
+
+#include "cli/render_command.h"
+#include "protocol/builtin_scenes.h"
+
+namespace {
+
+constexpr const char* kHelp =
+    "bumprad: progressive radiosity with bump textures (Chen & Wu 1990)\n"
+    "usage:\n"
+    "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
+    "                 [--export-solution S.json]\n"
+    "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
+    "  bumprad --help\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string_view> args(argv + 1, argv + argc);
+  if (args.empty()) {
+    std::cerr << kHelp;
+    return 2;
+  }
+  std::string_view command = args.front();
+  std::span<const std::string_view> rest(args.data() + 1, args.size() - 1);
+  if (command == "render") return bumprad::render_command(rest);
+  if (command == "scenes") {
+    for (const auto& s : bumprad::builtin_scenes()) std::cout << s.name << "\n";
+    return 0;
+  }
+  if (command == "--help" || command == "-h" || command == "help") {
+    std::cout << kHelp;
+    return 0;
+  }
+  std::cerr << "bumprad: unknown command \"" << command << "\"\n" << kHelp;
+  return 2;
+}

@@ -1,0 +1,133 @@
+#include "cli/render_command.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/scene_source.h"
+#include "protocol/scene_json.h"
+#include "protocol/solution_json.h"
+#include "solver/atomic_file.h"
+#include "solver/image.h"
+#include "solver/mesh.h"
+#include "solver/progressive.h"
+#include "solver/ray_scene.h"
+#include "solver/view_pass.h"
+
+namespace bumprad {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
+    "                      [--export-solution S.json]\n"
+    "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderArgs {
+  std::string scene, output, solution;
+  nlohmann::json overrides = nlohmann::json::object();  // solver settings from flags
+};
+
+RenderArgs parse_args(std::span<const std::string_view> args) {
+  RenderArgs r;
+  auto value = [&](std::size_t& i) {
+    if (i + 1 >= args.size()) throw UsageError(std::string(args[i]) + " needs a value");
+    return std::string(args[++i]);
+  };
+  auto integer = [&](std::size_t& i) {
+    std::string flag(args[i]), v = value(i);
+    try {
+      std::size_t used = 0;
+      long long n = std::stoll(v, &used);
+      if (used == v.size()) return n;
+    } catch (const std::exception&) {
+    }
+    throw UsageError(flag + ": \"" + v + "\" is not an integer");
+  };
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string_view a = args[i];
+    if (a == "-o" || a == "--output") r.output = value(i);
+    else if (a == "--shots") r.overrides["max_shots"] = integer(i);
+    else if (a == "--hemicube") r.overrides["hemicube_resolution"] = integer(i);
+    else if (a == "--export-solution") r.solution = value(i);
+    else if (a.starts_with("-")) throw UsageError("unknown option " + std::string(a));
+    else if (r.scene.empty()) r.scene = a;
+    else throw UsageError("more than one scene given");
+  }
+  if (r.scene.empty()) throw UsageError("no scene given");
+  if (r.output.empty()) throw UsageError("no output image given (-o OUT.png or OUT.exr)");
+  return r;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int render_command(std::span<const std::string_view> args) {
+  RenderArgs a;
+  try {
+    a = parse_args(args);
+  } catch (const UsageError& e) {
+    std::cerr << "bumprad render: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  try {
+    Scene scene = load_scene(a.scene);
+    try {
+      apply_solver_settings(a.overrides, scene.solver, "");
+    } catch (const SceneError& e) {
+      std::string flag = e.pointer() == "/max_shots" ? "--shots" : "--hemicube";
+      std::string msg = e.what();
+      throw UsageError(flag + msg.substr(msg.find(':')));
+    }
+
+    auto t0 = std::chrono::steady_clock::now();
+    Mesh mesh = build_mesh(scene);
+    ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+    const bool tty = ::isatty(STDERR_FILENO);
+    solver.run([&](const Snapshot& s) {
+      std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
+                   scene.solver.max_shots, 100 * s.unshot_fraction, tty ? "" : "\n");
+      return true;
+    });
+    if (tty) std::fputc('\n', stderr);
+    SolveStats stats{solver.shots(), mesh.elements.size(), seconds_since(t0),
+                     solver.unshot_fraction()};
+
+    auto t1 = std::chrono::steady_clock::now();
+    RayScene rays(mesh);
+    Image image = render_view(mesh, rays, scene.camera, solver.display_radiosity());
+    write_image(a.output, image, scene.camera.exposure);
+    double seconds_view = seconds_since(t1);
+
+    if (!a.solution.empty())
+      write_file_atomically(a.solution,
+                            solution_to_json(scene, mesh, solver.radiosity(), stats));
+    std::printf(
+        "wrote %s (%dx%d): %d shots, %zu elements, %zu patches, unshot %.2f%%, solve %.2f s, "
+        "view %.2f s\n",
+        a.output.c_str(), image.width, image.height, stats.shots, stats.elements,
+        mesh.patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve, seconds_view);
+    if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
+    return 0;
+  } catch (const UsageError& e) {
+    std::cerr << "bumprad render: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "bumprad: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace bumprad

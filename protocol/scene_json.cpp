@@ -1,0 +1,384 @@
+#include "protocol/scene_json.h"
+
+#include <algorithm>
+#include <cmath>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include "solver/mesh.h"
+
+namespace bumprad {
+namespace {
+
+using json = nlohmann::json;
+
+std::string describe(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+std::string escape_token(std::string_view key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+// A JSON value and where it sits in the document, with typed, checked accessors.
+class Node {
+ public:
+  Node(const json& value, std::string pointer) : value_(value), pointer_(std::move(pointer)) {}
+
+  [[noreturn]] void fail(const std::string& reason) const { throw SceneError(pointer_, reason); }
+  const std::string& pointer() const { return pointer_; }
+  const json& value() const { return value_; }
+
+  Node operator[](std::string_view key) const {
+    auto it = object().find(std::string(key));
+    if (it == value_.end()) {
+      Node missing(value_, pointer_ + "/" + escape_token(key));
+      missing.fail("is required");
+    }
+    return Node(*it, pointer_ + "/" + escape_token(key));
+  }
+  std::optional<Node> get(std::string_view key) const {
+    auto it = object().find(std::string(key));
+    if (it == value_.end()) return std::nullopt;
+    return Node(*it, pointer_ + "/" + escape_token(key));
+  }
+  Node operator[](std::size_t i) const { return Node(value_[i], pointer_ + "/" + std::to_string(i)); }
+
+  const json& object() const {
+    if (!value_.is_object()) fail("must be an object");
+    return value_;
+  }
+  // Rejects keys not in `keys`; `what` names the kind of object in the message.
+  void allow_only(const std::vector<std::string_view>& keys, const std::string& what = "") const {
+    for (auto it = object().begin(); it != value_.end(); ++it) {
+      if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
+      std::string list;
+      for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+      Node(*it, pointer_ + "/" + escape_token(it.key()))
+          .fail("unknown key" + (what.empty() ? "" : " for a " + what) + " (expected one of: " +
+                list + ")");
+    }
+  }
+  std::size_t array(std::size_t min, std::size_t max) const {
+    if (!value_.is_array()) fail("must be an array");
+    std::size_t n = value_.size();
+    if (n < min || n > max) {
+      if (min == max) fail("must have exactly " + std::to_string(min) + " entries (got " + std::to_string(n) + ")");
+      fail("must have between " + std::to_string(min) + " and " + std::to_string(max) +
+           " entries (got " + std::to_string(n) + ")");
+    }
+    return n;
+  }
+
+  double number() const {
+    if (!value_.is_number()) fail("must be a number");
+    double x = value_.get<double>();
+    if (!std::isfinite(x)) fail("must be a finite number");
+    return x;
+  }
+  double positive() const {
+    double x = number();
+    if (!(x > 0)) fail("must be greater than 0 (got " + describe(x) + ")");
+    return x;
+  }
+  double in_range(double lo, double hi, bool hi_open) const {
+    double x = number();
+    if (x < lo || x > hi || (hi_open && x == hi))
+      fail("must be in [" + describe(lo) + ", " + describe(hi) + (hi_open ? ")" : "]") +
+           " (got " + describe(x) + ")");
+    return x;
+  }
+  long long integer(long long lo, long long hi) const {
+    if (!value_.is_number_integer()) {
+      number();
+      fail("must be an integer");
+    }
+    long long x = value_.is_number_unsigned() && value_.get<std::uint64_t>() > std::uint64_t(hi)
+                      ? hi + 1
+                      : value_.get<long long>();
+    if (x < lo || x > hi)
+      fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi) + " (got " +
+           value_.dump() + ")");
+    return x;
+  }
+  bool boolean() const {
+    if (!value_.is_boolean()) fail("must be true or false");
+    return value_.get<bool>();
+  }
+  std::string string() const {
+    if (!value_.is_string()) fail("must be a string");
+    return value_.get<std::string>();
+  }
+  Vec3 vec3() const {
+    array(3, 3);
+    return {(*this)[0].number(), (*this)[1].number(), (*this)[2].number()};
+  }
+  // An RGB triple or one number for all three channels, each in [lo, hi) or [lo, hi].
+  Rgb rgb(double lo, double hi, bool hi_open) const {
+    if (value_.is_number()) {
+      double x = in_range(lo, hi, hi_open);
+      return Rgb(x);
+    }
+    if (!value_.is_array()) fail("must be a number or an array of 3 numbers");
+    array(3, 3);
+    return {(*this)[0].in_range(lo, hi, hi_open), (*this)[1].in_range(lo, hi, hi_open),
+            (*this)[2].in_range(lo, hi, hi_open)};
+  }
+
+ private:
+  const json& value_;
+  std::string pointer_;
+};
+
+constexpr double kHuge = 1e300;
+
+Camera parse_camera(const Node& n) {
+  n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure",
+                "antialias"});
+  Camera c;
+  c.position = n["position"].vec3();
+  c.look_at = n["look_at"].vec3();
+  if (auto v = n.get("up")) c.up = v->vec3();
+  if (auto v = n.get("fov_deg")) {
+    c.fov_y_deg = v->number();
+    if (!(c.fov_y_deg > 0 && c.fov_y_deg < 180))
+      v->fail("must be between 0 and 180 degrees, exclusive (got " + describe(c.fov_y_deg) + ")");
+  }
+  if (auto v = n.get("width")) c.width = int(v->integer(1, Limits::kMaxImageSide));
+  if (auto v = n.get("height")) c.height = int(v->integer(1, Limits::kMaxImageSide));
+  if (auto v = n.get("exposure")) c.exposure = v->positive();
+  if (auto v = n.get("antialias")) c.antialias = int(v->integer(1, Limits::kMaxAntialias));
+  Vec3 view = c.look_at - c.position;
+  if (!(glm::length(view) > 0)) n["look_at"].fail("must differ from position");
+  if (!(glm::length(c.up) > 0)) n["up"].fail("must not be the zero vector");
+  if (glm::length(glm::cross(glm::normalize(view), glm::normalize(c.up))) < 1e-6)
+    n.get("up") ? n["up"].fail("must not be parallel to the view direction")
+                : n.fail("the default up [0,1,0] is parallel to the view direction; give \"up\"");
+  return c;
+}
+
+Material parse_material(const Node& n, const std::string& name) {
+  n.allow_only({"reflectance", "emission", "specular", "shininess"});
+  Material m;
+  m.name = name;
+  if (auto v = n.get("reflectance")) m.reflectance = v->rgb(0, 1, /*hi_open=*/true);
+  if (auto v = n.get("emission")) m.emission = v->rgb(0, kHuge, false);
+  if (auto v = n.get("specular")) m.specular = v->in_range(0, 1, true);
+  if (auto v = n.get("shininess")) m.shininess = v->in_range(0, 1e6, false);
+  double most = std::max({m.reflectance.r, m.reflectance.g, m.reflectance.b});
+  if (most + m.specular >= 1)
+    n[n.get("specular") ? "specular" : "reflectance"].fail(
+        "reflectance + specular must stay below 1 in every channel (got " +
+        describe(most + m.specular) + ")");
+  return m;
+}
+
+MeshDensity parse_density(const Node& n) {
+  n.allow_only({"element_size", "elements", "patch_elements"});
+  MeshDensity d;
+  if (auto v = n.get("element_size")) d.element_size = v->positive();
+  if (auto v = n.get("elements")) {
+    if (v->value().is_number()) {
+      d.counts[0] = d.counts[1] = int(v->integer(1, Limits::kMaxGridCount));
+    } else {
+      v->array(2, 2);
+      d.counts = {int((*v)[0].integer(1, Limits::kMaxGridCount)),
+                  int((*v)[1].integer(1, Limits::kMaxGridCount))};
+    }
+  }
+  if (auto v = n.get("patch_elements")) d.patch_elements = int(v->integer(1, 64));
+  return d;
+}
+
+// A quad must be a proper, convex, nearly planar polygon: bilinear meshing folds otherwise.
+QuadShape parse_quad(const Node& n) {
+  Node vs = n["vertices"];
+  vs.array(4, 4);
+  QuadShape q;
+  for (std::size_t i = 0; i < 4; ++i) q.corners[i] = vs[i].vec3();
+  const auto& p = q.corners;
+  double scale = std::max(glm::length(p[2] - p[0]), glm::length(p[3] - p[1]));
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = i + 1; j < 4; ++j)
+      if (!(glm::length(p[i] - p[j]) > 1e-9 * scale))
+        vs[j].fail("degenerate quad: vertex repeats vertex " + std::to_string(i));
+  Vec3 normal = glm::cross(p[2] - p[0], p[3] - p[1]);
+  if (!(glm::length(normal) > 1e-12 * scale * scale)) vs.fail("degenerate quad: zero area");
+  normal = glm::normalize(normal);
+  for (std::size_t i = 0; i < 4; ++i) {
+    Vec3 turn = glm::cross(p[(i + 1) % 4] - p[i], p[(i + 2) % 4] - p[(i + 1) % 4]);
+    if (glm::dot(turn, normal) <= 0)
+      vs[(i + 1) % 4].fail("degenerate quad: not convex, or vertices out of order");
+  }
+  Vec3 mid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    double off = std::abs(glm::dot(p[i] - mid, normal));
+    if (off > 0.01 * scale)
+      vs[i].fail("quad is not planar: vertex lies " + describe(off) +
+                 " off the mean plane (at most 1% of the diagonal is allowed)");
+  }
+  return q;
+}
+
+TriangleMeshShape parse_triangle_mesh(const Node& n) {
+  TriangleMeshShape m;
+  Node ps = n["positions"];
+  std::size_t np = ps.array(3, 1'000'000);
+  for (std::size_t i = 0; i < np; ++i) m.positions.push_back(ps[i].vec3());
+  Node ts = n["triangles"];
+  std::size_t nt = ts.array(1, std::size_t(Limits::kMaxElements));
+  for (std::size_t i = 0; i < nt; ++i) {
+    Node t = ts[i];
+    t.array(3, 3);
+    std::array<std::uint32_t, 3> tri;
+    for (std::size_t k = 0; k < 3; ++k)
+      tri[k] = std::uint32_t(t[k].integer(0, (long long)np - 1));
+    Vec3 a = m.positions[tri[0]], b = m.positions[tri[1]], c = m.positions[tri[2]];
+    double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    if (!(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale))
+      t.fail("degenerate triangle: zero area");
+    m.triangles.push_back(tri);
+  }
+  if (auto v = n.get("smooth")) m.smooth = v->boolean();
+  return m;
+}
+
+Object parse_object(const Node& n, std::size_t index,
+                    const std::map<std::string, int>& material_ids) {
+  std::string type = n["type"].string();
+  auto allow = [&](std::initializer_list<std::string_view> own) {
+    std::vector<std::string_view> keys = {"type", "name", "material", "flip_normals", "mesh"};
+    keys.insert(keys.end(), own);
+    n.allow_only(keys, type);
+  };
+  Object o;
+  o.name = n.get("name") ? n["name"].string() : type + std::to_string(index);
+  std::string material = n["material"].string();
+  auto it = material_ids.find(material);
+  if (it == material_ids.end()) n["material"].fail("unknown material \"" + material + "\"");
+  o.material = it->second;
+  if (auto v = n.get("flip_normals")) o.flip_normals = v->boolean();
+  if (auto v = n.get("mesh")) o.density = parse_density(*v);
+
+  if (type == "quad") {
+    allow({"vertices"});
+    o.shape = parse_quad(n);
+  } else if (type == "box") {
+    allow({"center", "size", "rotation_deg"});
+    BoxShape b;
+    if (auto v = n.get("center")) b.center = v->vec3();
+    Node size = n["size"];
+    size.array(3, 3);
+    b.size = {size[0].positive(), size[1].positive(), size[2].positive()};
+    if (auto v = n.get("rotation_deg")) b.rotation_deg = v->vec3();
+    o.shape = b;
+  } else if (type == "sphere") {
+    allow({"center", "radius"});
+    SphereShape s;
+    if (auto v = n.get("center")) s.center = v->vec3();
+    s.radius = n["radius"].positive();
+    o.shape = s;
+  } else if (type == "cylinder") {
+    allow({"base", "top", "radius", "caps"});
+    CylinderShape c;
+    c.base = n["base"].vec3();
+    c.top = n["top"].vec3();
+    c.radius = n["radius"].positive();
+    if (!(glm::length(c.top - c.base) > 1e-9 * c.radius)) n["top"].fail("must differ from base");
+    if (auto v = n.get("caps")) c.caps = v->boolean();
+    o.shape = c;
+  } else if (type == "mesh") {
+    allow({"positions", "triangles", "smooth"});
+    o.shape = parse_triangle_mesh(n);
+  } else {
+    n["type"].fail("unknown object type \"" + type +
+                   "\" (expected quad, box, sphere, cylinder or mesh)");
+  }
+  return o;
+}
+
+}  // namespace
+
+void apply_solver_settings(const json& settings, SolverSettings& s, const std::string& pointer) {
+  Node n(settings, pointer);
+  n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
+                "patch_elements", "preview_every", "rotate_hemicube", "seed"});
+  if (auto v = n.get("hemicube_resolution")) {
+    s.hemicube_resolution = int(v->integer(Limits::kMinHemicube, Limits::kMaxHemicube));
+    if (s.hemicube_resolution % 2)
+      v->fail("must be even (the side faces are half faces); got " +
+              std::to_string(s.hemicube_resolution));
+  }
+  if (auto v = n.get("max_shots")) s.max_shots = int(v->integer(1, Limits::kMaxShots));
+  if (auto v = n.get("unshot_fraction")) s.unshot_fraction = v->in_range(0, 1, true);
+  if (auto v = n.get("element_size")) s.element_size = v->positive();
+  if (auto v = n.get("patch_elements")) s.patch_elements = int(v->integer(1, 64));
+  if (auto v = n.get("preview_every")) s.preview_every = int(v->integer(1, Limits::kMaxShots));
+  if (auto v = n.get("rotate_hemicube")) s.rotate_hemicube = v->boolean();
+  if (auto v = n.get("seed")) s.seed = std::uint32_t(v->integer(0, 0xffffffffLL));
+}
+
+Scene parse_scene(const json& document) {
+  Node root(document, "");
+  root.allow_only({"version", "description", "camera", "materials", "objects", "solver"});
+  if (auto v = root.get("version"); v && v->integer(1, 1) != 1) v->fail("unsupported version");
+  if (auto v = root.get("description")) v->string();
+
+  Scene scene;
+  scene.camera = parse_camera(root["camera"]);
+
+  std::map<std::string, int> material_ids;
+  Node materials = root["materials"];
+  for (auto it = materials.object().begin(); it != materials.value().end(); ++it) {
+    Node m(*it, materials.pointer() + "/" + escape_token(it.key()));
+    material_ids[it.key()] = int(scene.materials.size());
+    scene.materials.push_back(parse_material(m, it.key()));
+  }
+
+  Node objects = root["objects"];
+  std::size_t n = objects.array(1, std::size_t(Limits::kMaxElements));
+  for (std::size_t i = 0; i < n; ++i)
+    scene.objects.push_back(parse_object(objects[i], i, material_ids));
+
+  if (auto v = root.get("solver")) apply_solver_settings(v->value(), scene.solver, v->pointer());
+
+  // Refuse oversized meshes before any memory is spent on them.
+  double size = default_element_size(scene);
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    total += estimate_element_count(scene.objects[i], size);
+    if (total > std::size_t(Limits::kMaxElements))
+      objects[i].fail("the scene would mesh into more than " +
+                      std::to_string(Limits::kMaxElements) +
+                      " elements; raise element_size (per object under \"mesh\", or in "
+                      "\"solver\")");
+  }
+  return scene;
+}
+
+Scene parse_scene(std::string_view text) {
+  json document;
+  try {
+    document = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw SceneError("", "malformed JSON at byte " + std::to_string(e.byte) + ": " +
+                             std::string(e.what()).substr(std::string(e.what()).find(':') + 2));
+  }
+  return parse_scene(document);
+}
+
+}  // namespace bumprad

@@ -1,0 +1,52 @@
+#include "solver/form_factor_exact.h"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+namespace bumprad {
+
+double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
+  // Sutherland-Hodgman against the plane normal . (x - point) >= 0.
+  std::vector<Vec3> clipped;
+  const std::size_t n = polygon.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 a = polygon[i] - point, b = polygon[(i + 1) % n] - point;
+    double da = glm::dot(normal, a), db = glm::dot(normal, b);
+    if (da >= 0) clipped.push_back(a);
+    if ((da >= 0) != (db >= 0)) clipped.push_back(a + (b - a) * (da / (da - db)));
+  }
+  double sum = 0;
+  for (std::size_t i = 0; i < clipped.size(); ++i) {
+    const Vec3& a = clipped[i];
+    const Vec3& b = clipped[(i + 1) % clipped.size()];
+    Vec3 c = glm::cross(a, b);
+    double len = glm::length(c);
+    if (len <= 0) continue;
+    double gamma = std::atan2(len, glm::dot(a, b));
+    sum += gamma * glm::dot(normal, c) / len;
+  }
+  return std::abs(sum) / (2 * std::numbers::pi);
+}
+
+double parallel_rectangles(double a, double b, double c) {
+  double x = a / c, y = b / c;
+  double x1 = std::sqrt(1 + x * x), y1 = std::sqrt(1 + y * y);
+  double f = std::log(x1 * x1 * y1 * y1 / (1 + x * x + y * y)) / 2 + x * y1 * std::atan(x / y1) +
+             y * x1 * std::atan(y / x1) - x * std::atan(x) - y * std::atan(y);
+  return 2 * f / (std::numbers::pi * x * y);
+}
+
+double perpendicular_rectangles(double l, double w, double h) {
+  double W = w / l, H = h / l;
+  double w2 = W * W, h2 = H * H, s = std::sqrt(w2 + h2);
+  double log_term = std::log((1 + w2) * (1 + h2) / (1 + w2 + h2)) +
+                    w2 * std::log(w2 * (1 + w2 + h2) / ((1 + w2) * (w2 + h2))) +
+                    h2 * std::log(h2 * (1 + h2 + w2) / ((1 + h2) * (h2 + w2)));
+  double f = W * std::atan(1 / W) + H * std::atan(1 / H) - s * std::atan(1 / s) + log_term / 4;
+  return f / (std::numbers::pi * W);
+}
+
+}  // namespace bumprad

@@ -1,0 +1,43 @@
+#include "solver/gl_context.h"
+
+#include <cstdlib>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include <GL/osmesa.h>
+
+namespace bumprad {
+namespace {
+
+// llvmpipe reads LP_NUM_THREADS once, when its first context is created; a user's value wins.
+void configure_llvmpipe_once() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    unsigned n = std::max(1u, std::thread::hardware_concurrency());
+    setenv("LP_NUM_THREADS", std::to_string(n).c_str(), /*overwrite=*/0);
+  });
+}
+
+}  // namespace
+
+GlContext::GlContext(int width, int height)
+    : buffer_(std::size_t(width) * std::size_t(height)), width_(width), height_(height) {
+  configure_llvmpipe_once();
+  // A 32-bit depth buffer: item buffers must separate surfaces a hair apart (a light
+  // lowered 0.1 mm below a ceiling) seen from across the scene.
+  context_ = OSMesaCreateContextExt(OSMESA_RGBA, 32, 0, 0, nullptr);
+  if (!context_) context_ = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+  if (!context_) throw std::runtime_error("OSMesa: could not create an offscreen GL context");
+  make_current();
+}
+
+GlContext::~GlContext() { OSMesaDestroyContext(context_); }
+
+void GlContext::make_current() {
+  if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_))
+    throw std::runtime_error("OSMesa: could not bind the offscreen GL context");
+}
+
+}  // namespace bumprad

@@ -1,0 +1,90 @@
+// The hemi-cube (Cohen & Greenberg 1985): an item buffer of element ids rendered with OSMesa
+// around a point, and the delta form-factor tables (paper eq. 12 and 17) that turn its
+// pixels into point-to-element form factors.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "solver/gl_context.h"
+#include "solver/mesh.h"
+
+namespace bumprad {
+
+// An orthonormal right-handed frame; z is the surface normal N.
+struct Frame {
+  Vec3 x, y, z;
+  Vec3 to_world(const Vec3& local) const { return local.x * x + local.y * y + local.z * z; }
+  Vec3 to_local(const Vec3& world) const;
+};
+
+// A frame about the unit normal n, turned by `angle` radians about n.
+Frame frame_about(const Vec3& n, double angle = 0);
+
+// Item-buffer layout, R = resolution: the top face (R x R) in rows [0, R), then the upper
+// halves of the +x, -x, +y and -y side faces (R x R/2 each). Row 0 is the bottom row.
+class DeltaFormFactors {
+ public:
+  explicit DeltaFormFactors(int resolution);
+
+  int resolution() const { return resolution_; }
+  int width() const { return resolution_; }
+  int height() const { return 3 * resolution_; }
+  std::size_t size() const { return df_.size(); }
+
+  // dF_p = (N . R_p) dA / (pi r^4), normalised so the whole hemi-cube sums to 1 (eq. 12).
+  float dF(std::size_t p) const { return df_[p]; }
+  // R_p: centre-to-pixel vector in the local frame, on the unit cube (not normalised).
+  const glm::vec3& direction(std::size_t p) const { return direction_[p]; }
+  // (dF_px, dF_py, dF_pz): eq. 17 with the same normalisation; dF_pz == dF_p.
+  glm::vec3 directional(std::size_t p) const { return direction_[p] * weight_[p]; }
+
+ private:
+  int resolution_;
+  std::vector<float> df_;
+  std::vector<float> weight_;  // dA / (pi r^4), normalised
+  std::vector<glm::vec3> direction_;
+};
+
+struct VisibleElement {
+  std::uint32_t element;
+  double form_factor;
+};
+
+class Hemicube {
+ public:
+  // Uploads the elements once; `resolution` must be even.
+  Hemicube(const Mesh& mesh, int resolution);
+
+  // Renders the item buffer from `origin` (already lifted off its surface) looking along
+  // frame.z. Elements of `skip_patch` (the shooter itself) are not drawn.
+  void render(const Vec3& origin, const Frame& frame, std::optional<std::uint32_t> skip_patch);
+
+  // Element id + 1 per pixel, 0 where nothing is seen; valid after render().
+  std::span<const std::uint32_t> item_buffer() const;
+
+  // F for every element seen in the last render: the sum of its pixels' dF (eq. 11-12).
+  const std::vector<VisibleElement>& form_factors();
+
+  const DeltaFormFactors& deltas() const { return deltas_; }
+  double last_render_seconds() const { return render_seconds_; }
+  double last_accumulate_seconds() const { return accumulate_seconds_; }
+
+ private:
+  const Mesh& mesh_;
+  DeltaFormFactors deltas_;
+  GlContext context_;
+  unsigned vertex_buffer_ = 0, color_buffer_ = 0;
+  std::vector<glm::vec3> corners_;  // 4 per element (triangles repeat the last), float
+  std::array<std::vector<std::uint32_t>, 5> face_indices_;  // per face, reused each render
+  std::vector<double> sums_;
+  std::vector<VisibleElement> visible_;
+  double render_seconds_ = 0, accumulate_seconds_ = 0;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,75 @@
+#include "solver/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+
+#include <OpenImageIO/imageio.h>
+
+#include "solver/atomic_file.h"
+
+namespace bumprad {
+
+Rgb Image::at(int x, int y) const {
+  std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  return {rgb[i], rgb[i + 1], rgb[i + 2]};
+}
+
+void Image::set(int x, int y, const Rgb& c) {
+  std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  rgb[i] = float(c.r);
+  rgb[i + 1] = float(c.g);
+  rgb[i + 2] = float(c.b);
+}
+
+double srgb_encode(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
+}
+
+void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+  if (ext != ".png" && ext != ".exr")
+    throw std::runtime_error(path.string() + ": unsupported image type (use .png or .exr)");
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    auto out = OIIO::ImageOutput::create(tmp.string());
+    if (!out) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
+    bool ok;
+    if (ext == ".png") {
+      std::vector<std::uint8_t> px(image.rgb.size());
+      for (std::size_t i = 0; i < px.size(); ++i)
+        px[i] = std::uint8_t(std::lround(255 * srgb_encode(exposure * image.rgb[i])));
+      OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+      ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data());
+    } else {
+      OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
+      ok = out->open(tmp.string(), spec) &&
+           out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+    }
+    ok = out->close() && ok;
+    if (!ok) throw std::runtime_error(path.string() + ": " + out->geterror());
+  });
+}
+
+Image read_image(const std::filesystem::path& path) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> px(std::size_t(spec.width) * std::size_t(spec.height) *
+                        std::size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+    throw std::runtime_error(path.string() + ": " + in->geterror());
+  bool srgb = spec.format == OIIO::TypeDesc::UINT8;
+  Image img(spec.width, spec.height);
+  for (std::size_t i = 0, n = std::size_t(spec.width) * std::size_t(spec.height); i < n; ++i)
+    for (std::size_t c = 0; c < 3; ++c) {
+      float v = px[i * std::size_t(spec.nchannels) + std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
+      if (srgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+      img.rgb[3 * i + c] = v;
+    }
+  return img;
+}
+
+}  // namespace bumprad

@@ -1,0 +1,83 @@
+// Progressive refinement radiosity (Cohen, Chen, Wallace & Greenberg 1988): the patch with
+// the most unshot power shoots it through a hemi-cube to every element it sees.
+// Memory is O(elements): form factors live for one shot only.
+#pragma once
+
+#include <functional>
+#include <random>
+#include <vector>
+
+#include "solver/hemicube.h"
+#include "solver/mesh.h"
+#include "solver/scene.h"
+
+namespace bumprad {
+
+// Power bookkeeping in watts per channel. At every shot, emitted == absorbed + escaped +
+// unshot up to rounding; `escaped` is what left an open scene through the hemi-cube's
+// empty pixels.
+struct EnergyLedger {
+  Rgb emitted{0}, absorbed{0}, escaped{0}, unshot{0};
+};
+
+struct ShotTiming {
+  double render_s = 0, accumulate_s = 0, total_s = 0;
+};
+
+// A finished (or stopped) solve, as reported to users.
+struct SolveStats {
+  int shots = 0;
+  std::size_t elements = 0;
+  double seconds_solve = 0;  // wall time, hemi-cube set-up included
+  double unshot_fraction = 0;
+};
+
+// What a refinement step hands out: enough to render a preview.
+struct Snapshot {
+  int shots = 0;
+  double unshot_fraction = 0;
+  bool final = false;
+  std::vector<Rgb> radiosity;  // per element, with the ambient term for display
+};
+
+class ProgressiveSolver {
+ public:
+  ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
+                    const SolverSettings& settings);
+
+  // One shot from the patch with the most unshot power. False if nothing was left to shoot.
+  bool shoot();
+  // True once the shot budget is spent or unshot power is below the threshold.
+  bool done() const;
+  // Shoots until done(); calls on_step after every `preview_every` shots and at the end.
+  // on_step returning false stops the solve early (a cancelled job).
+  void run(const std::function<bool(const Snapshot&)>& on_step = {});
+
+  int shots() const { return shots_; }
+  double unshot_fraction() const;
+  const std::vector<Rgb>& radiosity() const { return radiosity_; }
+  // B_i + rho_i * ambient: Cohen 1988's estimate of the light not yet shot, so early
+  // previews are not dark. It tends to zero as the solve converges.
+  std::vector<Rgb> display_radiosity() const;
+  Snapshot snapshot() const;
+  EnergyLedger ledger() const;
+  const ShotTiming& last_shot() const { return last_shot_; }
+  const ShotTiming& total_time() const { return total_; }
+
+ private:
+  const Mesh& mesh_;
+  SolverSettings settings_;
+  Hemicube hemicube_;
+  std::vector<Rgb> reflectance_;   // per element
+  std::vector<Rgb> radiosity_;     // B, per element
+  std::vector<Rgb> unshot_;        // dB, per element
+  std::vector<double> patch_unshot_power_;  // A * (dB.r + dB.g + dB.b), per patch
+  Rgb emitted_{0}, absorbed_{0}, escaped_{0};
+  Rgb ambient_factor_{0};  // 1 / (1 - area-weighted mean reflectance)
+  double total_area_ = 0;
+  int shots_ = 0;
+  std::mt19937 rng_;
+  ShotTiming last_shot_, total_;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,110 @@
+// The scene as the solver sees it: camera, materials, shapes and solver settings as plain
+// values. protocol/ builds one from JSON and validates it; the solver trusts what it gets.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace bumprad {
+
+using Vec3 = glm::dvec3;
+using Rgb = glm::dvec3;
+
+// Documented limits; protocol/ rejects scenes beyond them before any work is done.
+struct Limits {
+  static constexpr int kMaxElements = 200'000;
+  static constexpr int kMinHemicube = 16;
+  static constexpr int kMaxHemicube = 1024;
+  static constexpr int kMaxImageSide = 8192;
+  static constexpr int kMaxShots = 1'000'000;
+  static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
+  static constexpr int kMaxAntialias = 8;
+};
+
+struct Camera {
+  Vec3 position{0, 0, -1};
+  Vec3 look_at{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  double fov_y_deg = 40;
+  int width = 512;
+  int height = 512;
+  double exposure = 1;  // multiplies radiance before tone mapping
+  int antialias = 1;    // n: an n x n stratified grid of rays per pixel
+};
+
+// Diffuse albedo rho and emitted radiosity E (W/m^2, i.e. pi times the radiance).
+// `specular` (k_s) and `shininess` are carried for the non-diffuse pass; until that pass
+// exists the specular fraction is absorbed.
+struct Material {
+  std::string name;
+  Rgb reflectance{0.5, 0.5, 0.5};
+  Rgb emission{0, 0, 0};
+  double specular = 0;
+  double shininess = 0;  // 0 means a perfect mirror
+};
+
+// How finely one object is meshed. A count of 0 means "derive from element_size"; an
+// element_size of 0 means "use the scene default".
+struct MeshDensity {
+  double element_size = 0;
+  std::array<int, 2> counts{0, 0};
+  int patch_elements = 0;  // elements per patch side; 0 means the scene default
+};
+
+struct QuadShape {
+  std::array<Vec3, 4> corners;  // counter-clockwise seen from the lit side
+};
+struct BoxShape {
+  Vec3 center{0, 0, 0};
+  Vec3 size{1, 1, 1};
+  Vec3 rotation_deg{0, 0, 0};  // applied about x, then y, then z
+};
+struct SphereShape {
+  Vec3 center{0, 0, 0};
+  double radius = 1;
+};
+struct CylinderShape {
+  Vec3 base{0, 0, 0};
+  Vec3 top{0, 1, 0};
+  double radius = 1;
+  bool caps = true;
+};
+struct TriangleMeshShape {
+  std::vector<Vec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  bool smooth = false;  // share vertices (and interpolate radiosity) across triangles
+};
+using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
+
+struct Object {
+  std::string name;
+  Shape shape;
+  int material = 0;  // index into Scene::materials
+  bool flip_normals = false;  // e.g. a box seen from inside
+  MeshDensity density;
+};
+
+struct SolverSettings {
+  int hemicube_resolution = 150;  // pixels across the top face; even
+  int max_shots = 1000;
+  double unshot_fraction = 0.01;  // stop once unshot power / emitted power falls below this
+  double element_size = 0;        // 0: a sixteenth of the scene's bounding-box diagonal
+  int patch_elements = 2;         // elements per patch side (patches shoot, elements receive)
+  int preview_every = 10;         // shots per refinement step (callback, preview)
+  bool rotate_hemicube = true;    // random rotation about N per shot against aliasing
+  std::uint32_t seed = 1;
+};
+
+struct Scene {
+  Camera camera;
+  std::vector<Material> materials;
+  std::vector<Object> objects;
+  SolverSettings solver;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,27 @@
+#include "solver/vertex_radiosity.h"
+
+namespace bumprad {
+
+std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity) {
+  std::vector<Rgb> sum(mesh.vertices.size(), Rgb(0));
+  std::vector<double> area(mesh.vertices.size(), 0.0);
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    for (int k = 0; k < e.vertex_count; ++k) {
+      sum[e.v[k]] += element_radiosity[i] * e.area;
+      area[e.v[k]] += e.area;
+    }
+  }
+  for (std::size_t v = 0; v < sum.size(); ++v)
+    if (area[v] > 0) sum[v] /= area[v];
+  return sum;
+}
+
+Rgb interpolate(const Element& e, std::span<const Rgb> values, double u, double v) {
+  if (e.vertex_count == 3)
+    return (1 - u - v) * values[e.v[0]] + u * values[e.v[1]] + v * values[e.v[2]];
+  return (1 - u) * (1 - v) * values[e.v[0]] + u * (1 - v) * values[e.v[1]] +
+         u * v * values[e.v[2]] + (1 - u) * v * values[e.v[3]];
+}
+
+}  // namespace bumprad

@@ -1,0 +1,19 @@
+// Smooth shading of a radiosity solution: vertex values as the area-weighted mean of the
+// adjacent elements (which share vertices only within a smooth surface), interpolated
+// bilinearly inside quads and barycentrically inside triangles.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "solver/mesh.h"
+
+namespace bumprad {
+
+std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity);
+
+// (u, v) as Embree reports a hit: quads p0 + u (p1 - p0) + v (p3 - p0) bilinearly,
+// triangles (1 - u - v) p0 + u p1 + v p2.
+Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
+
+}  // namespace bumprad
