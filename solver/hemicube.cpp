@@ -196,7 +196,7 @@ std::span<const std::uint32_t> Hemicube::item_buffer() const {
   return {context_.pixels(), deltas_.size()};
 }
 
-const std::vector<VisibleElement>& Hemicube::form_factors() {
+std::vector<VisibleElement>& Hemicube::form_factors() {
   auto t0 = std::chrono::steady_clock::now();
   visible_.clear();
   const std::uint32_t* ids = context_.pixels();

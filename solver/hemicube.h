@@ -69,7 +69,8 @@ class Hemicube {
   std::span<const std::uint32_t> item_buffer() const;
 
   // F for every element seen in the last render: the sum of its pixels' dF (eq. 11-12).
-  const std::vector<VisibleElement>& form_factors();
+  // The list is the caller's to adjust until the next call (e.g. near-field corrections).
+  std::vector<VisibleElement>& form_factors();
 
   const DeltaFormFactors& deltas() const { return deltas_; }
   double last_render_seconds() const { return render_seconds_; }

@@ -65,8 +65,16 @@ class ProgressiveSolver {
   const ShotTiming& total_time() const { return total_; }
 
  private:
+  struct ShooterSample {
+    Vec3 point;
+    double weight;  // fraction of the patch's area
+  };
+  double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
+                                double hemicube_form_factor) const;
+
   const Mesh& mesh_;
   SolverSettings settings_;
+  std::vector<std::vector<ShooterSample>> samples_;  // per patch, for the near field
   Hemicube hemicube_;
   std::vector<Rgb> reflectance_;   // per element
   std::vector<Rgb> radiosity_;     // B, per element
