@@ -180,9 +180,9 @@ Material parse_material(const Node& n, const std::string& name) {
   if (auto v = n.get("specular")) m.specular = v->in_range(0, 1, true);
   if (auto v = n.get("shininess")) m.shininess = v->in_range(0, 1e6, false);
   double most = std::max({m.reflectance.r, m.reflectance.g, m.reflectance.b});
-  if (most + m.specular >= 1)
+  if (most + m.specular > 1)
     n[n.get("specular") ? "specular" : "reflectance"].fail(
-        "reflectance + specular must stay below 1 in every channel (got " +
+        "reflectance + specular must not exceed 1 in any channel (got " +
         describe(most + m.specular) + ")");
   return m;
 }
@@ -217,7 +217,7 @@ QuadShape parse_quad(const Node& n) {
       if (!(glm::length(p[i] - p[j]) > 1e-9 * scale))
         vs[j].fail("degenerate quad: vertex repeats vertex " + std::to_string(i));
   Vec3 normal = glm::cross(p[2] - p[0], p[3] - p[1]);
-  if (!(glm::length(normal) > 1e-12 * scale * scale)) vs.fail("degenerate quad: zero area");
+  if (!(glm::length(normal) > 1e-12 * scale * scale)) vs.fail("degenerate quad: zero area, or self-intersecting");
   normal = glm::normalize(normal);
   for (std::size_t i = 0; i < 4; ++i) {
     Vec3 turn = glm::cross(p[(i + 1) % 4] - p[i], p[(i + 2) % 4] - p[(i + 1) % 4]);
@@ -377,6 +377,9 @@ Scene parse_scene(std::string_view text) {
   } catch (const json::parse_error& e) {
     throw SceneError("", "malformed JSON at byte " + std::to_string(e.byte) + ": " +
                              std::string(e.what()).substr(std::string(e.what()).find(':') + 2));
+  } catch (const json::exception& e) {  // e.g. a number literal beyond double's range
+    std::string what = e.what();
+    throw SceneError("", "malformed JSON: " + what.substr(what.find(']') + 2));
   }
   return parse_scene(document);
 }

@@ -1,0 +1,239 @@
+// Every rejection rule of the scene format, each checked for the field it names and the
+// reason it gives; plus the defaults a minimal scene gets.
+#include "protocol/scene_json.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace bumprad {
+namespace {
+
+using json = nlohmann::json;
+
+json minimal() {
+  return json::parse(R"({
+    "camera": {"position": [0, 1, 5], "look_at": [0, 1, 0]},
+    "materials": {"white": {"reflectance": 0.7}, "lamp": {"emission": [10, 10, 10]}},
+    "objects": [
+      {"type": "quad", "material": "white",
+       "vertices": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]},
+      {"type": "box", "material": "lamp", "center": [0, 2, 0], "size": [0.2, 0.1, 0.2]}
+    ]
+  })");
+}
+
+// Expects parse_scene to reject `doc` at `pointer` with a message containing `reason`.
+void expect_rejected(const json& doc, const std::string& pointer, const std::string& reason) {
+  try {
+    parse_scene(doc);
+    ADD_FAILURE() << "accepted; expected " << pointer << ": " << reason;
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), pointer) << e.what();
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "one line";
+  }
+}
+
+TEST(SceneJson, MinimalSceneGetsTheDefaults) {
+  Scene s = parse_scene(minimal());
+  EXPECT_EQ(s.camera.width, 512);
+  EXPECT_EQ(s.camera.up, Vec3(0, 1, 0));
+  EXPECT_EQ(s.solver.hemicube_resolution, 150);
+  EXPECT_EQ(s.solver.patch_elements, 2);
+  ASSERT_EQ(s.materials.size(), 2u);
+  const Material& white = s.materials[std::size_t(s.objects[0].material)];
+  const Material& lamp = s.materials[std::size_t(s.objects[1].material)];
+  EXPECT_EQ(white.name, "white");
+  EXPECT_EQ(white.reflectance, Rgb(0.7));
+  EXPECT_EQ(lamp.reflectance, Rgb(0.5));
+  EXPECT_EQ(lamp.emission, Rgb(10));
+  EXPECT_EQ(s.objects[0].name, "quad0");
+}
+
+TEST(SceneJson, MalformedJson) {
+  try {
+    parse_scene(std::string_view("{\"camera\": [1, 2"));
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "");
+    EXPECT_NE(std::string(e.what()).find("malformed JSON at byte"), std::string::npos);
+  }
+}
+
+TEST(SceneJson, DeepNestingIsRefusedWithoutCrashing) {
+  std::string deep(100000, '[');
+  EXPECT_THROW(parse_scene(std::string_view(deep)), SceneError);
+}
+
+TEST(SceneJson, UnknownKeys) {
+  json d = minimal();
+  d["colour"] = 1;
+  expect_rejected(d, "/colour", "unknown key");
+  d = minimal();
+  d["camera"]["zoom"] = 2;
+  expect_rejected(d, "/camera/zoom", "unknown key (expected one of: position");
+  d = minimal();
+  d["objects"][1]["radius"] = 2;
+  expect_rejected(d, "/objects/1/radius", "unknown key for a box");
+  d = minimal();
+  d["materials"]["white"]["color"] = 1;
+  expect_rejected(d, "/materials/white/color", "unknown key");
+}
+
+TEST(SceneJson, WrongTypes) {
+  json d = minimal();
+  d["camera"]["position"] = "here";
+  expect_rejected(d, "/camera/position", "must be an array");
+  d = minimal();
+  d["camera"]["position"][1] = "1";
+  expect_rejected(d, "/camera/position/1", "must be a number");
+  d = minimal();
+  d["camera"]["width"] = 512.5;
+  expect_rejected(d, "/camera/width", "must be an integer");
+  d = minimal();
+  d["objects"] = json::object();
+  expect_rejected(d, "/objects", "must be an array");
+  d = minimal();
+  d["objects"][0]["flip_normals"] = 1;
+  expect_rejected(d, "/objects/0/flip_normals", "must be true or false");
+}
+
+TEST(SceneJson, NonFiniteNumbers) {
+  // JSON has no NaN or infinity literal; an overflowing literal is the way one arrives,
+  // and the JSON reader refuses it before any field is known.
+  std::string text = minimal().dump();
+  text.replace(text.find("\"look_at\":[0,1,0]"), 17, "\"look_at\":[0,1e999,0]");
+  try {
+    parse_scene(std::string_view(text));
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "") << e.what();
+    EXPECT_NE(std::string(e.what()).find("number overflow parsing '1e999'"), std::string::npos)
+        << e.what();
+  }
+  // Values built in code (the server's overrides) can carry NaN: refused by field.
+  json d = minimal();
+  d["materials"]["lamp"]["emission"][0] = std::numeric_limits<double>::quiet_NaN();
+  expect_rejected(d, "/materials/lamp/emission/0", "finite");
+}
+
+TEST(SceneJson, NegativeAndZeroSizes) {
+  json d = minimal();
+  d["objects"][1]["size"][2] = -0.2;
+  expect_rejected(d, "/objects/1/size/2", "must be greater than 0 (got -0.2)");
+  d = minimal();
+  d["objects"][1] = {{"type", "sphere"}, {"material", "white"}, {"radius", 0}};
+  expect_rejected(d, "/objects/1/radius", "must be greater than 0");
+  d = minimal();
+  d["objects"][0]["mesh"] = {{"element_size", -1}};
+  expect_rejected(d, "/objects/0/mesh/element_size", "must be greater than 0");
+  d = minimal();
+  d["objects"][1] = {{"type", "cylinder"}, {"material", "white"}, {"base", {0, 0, 0}},
+                     {"top", {0, 0, 0}}, {"radius", 1}};
+  expect_rejected(d, "/objects/1/top", "must differ from base");
+}
+
+TEST(SceneJson, DegeneratePolygons) {
+  json d = minimal();
+  d["objects"][0]["vertices"][2] = {-1, 0, 1};
+  expect_rejected(d, "/objects/0/vertices/2", "degenerate quad: vertex repeats vertex 1");
+  d = minimal();
+  d["objects"][0]["vertices"] = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  expect_rejected(d, "/objects/0/vertices", "degenerate quad: zero area");
+  d = minimal();
+  d["objects"][0]["vertices"] = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, -1}, {1, 0, 1}};
+  expect_rejected(d, "/objects/0/vertices", "self-intersecting");
+  d["objects"][0]["vertices"] = {{-1, 0, -1}, {-1, 0, 1}, {-0.5, 0, 0.2}, {1, 0, -1}};
+  expect_rejected(d, "/objects/0/vertices/2", "not convex");
+  d = minimal();
+  d["objects"][0]["vertices"][2] = {1, 0.5, 1};
+  expect_rejected(d, "/objects/0/vertices/0", "quad is not planar");
+  d = minimal();
+  d["objects"][0] = {{"type", "mesh"},
+                     {"material", "white"},
+                     {"positions", {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}},
+                     {"triangles", {{0, 1, 2}}}};
+  expect_rejected(d, "/objects/0/triangles/0", "degenerate triangle: zero area");
+  d["objects"][0]["triangles"] = {{0, 1, 3}};
+  expect_rejected(d, "/objects/0/triangles/0/2", "must be between 0 and 2 (got 3)");
+}
+
+TEST(SceneJson, ReflectanceMustStayBelowOne) {
+  json d = minimal();
+  d["materials"]["white"]["reflectance"] = {0.5, 1.0, 0.5};
+  expect_rejected(d, "/materials/white/reflectance/1", "must be in [0, 1) (got 1)");
+  d = minimal();
+  d["materials"]["white"]["specular"] = 0.4;
+  expect_rejected(d, "/materials/white/specular", "reflectance + specular must not exceed 1");
+  d["materials"]["white"]["specular"] = 0.3;  // k_d + k_s = 1 is allowed (the paper's mirror)
+  EXPECT_NO_THROW(parse_scene(d));
+  d = minimal();
+  d["materials"]["lamp"]["emission"] = -1;
+  expect_rejected(d, "/materials/lamp/emission", "must be in [0");
+}
+
+TEST(SceneJson, MissingFieldsAndMaterials) {
+  json d = minimal();
+  d.erase("camera");
+  expect_rejected(d, "/camera", "is required");
+  d = minimal();
+  d["objects"][0].erase("material");
+  expect_rejected(d, "/objects/0/material", "is required");
+  d = minimal();
+  d["objects"][1]["material"] = "gold";
+  expect_rejected(d, "/objects/1/material", "unknown material \"gold\"");
+  d = minimal();
+  d["objects"][1]["type"] = "torus";
+  expect_rejected(d, "/objects/1/type", "unknown object type \"torus\"");
+  d = minimal();
+  d["objects"] = json::array();
+  expect_rejected(d, "/objects", "must have between 1 and");
+}
+
+TEST(SceneJson, Limits) {
+  json d = minimal();
+  d["solver"] = {{"hemicube_resolution", 2048}};
+  expect_rejected(d, "/solver/hemicube_resolution", "must be between 16 and 1024");
+  d["solver"] = {{"hemicube_resolution", 151}};
+  expect_rejected(d, "/solver/hemicube_resolution", "must be even");
+  d = minimal();
+  d["camera"]["width"] = 10000;
+  expect_rejected(d, "/camera/width", "must be between 1 and 8192");
+  d = minimal();
+  d["solver"] = {{"max_shots", 0}};
+  expect_rejected(d, "/solver/max_shots", "must be between 1 and");
+  d = minimal();
+  d["objects"][0]["mesh"] = {{"element_size", 0.001}};
+  expect_rejected(d, "/objects/0", "more than 200000 elements");
+  d = minimal();
+  d["objects"][0]["mesh"] = {{"elements", {5000, 1}}};
+  expect_rejected(d, "/objects/0/mesh/elements/0", "must be between 1 and 4096");
+}
+
+TEST(SceneJson, CameraGeometry) {
+  json d = minimal();
+  d["camera"]["look_at"] = {0, 1, 5};
+  expect_rejected(d, "/camera/look_at", "must differ from position");
+  d = minimal();
+  d["camera"]["look_at"] = {0, 0, 5};
+  expect_rejected(d, "/camera", "parallel to the view direction");
+  d = minimal();
+  d["camera"]["fov_deg"] = 180;
+  expect_rejected(d, "/camera/fov_deg", "between 0 and 180");
+}
+
+TEST(SceneJson, SolverOverridesUseTheSameChecks) {
+  SolverSettings s;
+  apply_solver_settings(json{{"max_shots", 7}, {"seed", 3}}, s);
+  EXPECT_EQ(s.max_shots, 7);
+  EXPECT_EQ(s.seed, 3u);
+  try {
+    apply_solver_settings(json{{"preview_every", -1}}, s, "/settings");
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/settings/preview_every");
+  }
+}
+
+}  // namespace
+}  // namespace bumprad
