@@ -1,0 +1,132 @@
+// The bumprad binary end to end: real processes, real files, real exit codes.
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "solver/image.h"
+
+namespace bumprad {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Process {
+  int exit_code;
+  std::string output;  // stdout and stderr together
+};
+
+Process run(const std::string& args) {
+  std::string cmd = std::string(BUMPRAD_BIN) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+  int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class RenderCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("bumprad-cli-" + std::string(
+                                 ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(RenderCli, RendersTheCornellBoxAndExportsTheSolution) {
+  Process r = run("render builtin:cornell --shots 40 -o " + path("c.png") + " --export-solution " +
+              path("s.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("shot 40/40"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote " + path("c.png")), std::string::npos) << r.output;
+
+  Image img = read_image(path("c.png"));
+  EXPECT_EQ(img.width, 512);
+  double mean = 0, lo = 1, hi = 0;
+  for (float v : img.rgb) {
+    mean += v / double(img.rgb.size());
+    lo = std::min(lo, double(v));
+    hi = std::max(hi, double(v));
+  }
+  EXPECT_GT(mean, 0.02) << "not black";
+  EXPECT_GT(hi - lo, 0.5) << "not flat";
+
+  std::ifstream in(path("s.json"));
+  auto sol = nlohmann::json::parse(in);
+  EXPECT_EQ(sol["stats"]["shots"], 40);
+  ASSERT_EQ(sol["elements"].size(), sol["stats"]["elements"].get<std::size_t>());
+  EXPECT_GT(sol["stats"]["seconds_solve"].get<double>(), 0);
+  double unshot = sol["stats"]["unshot_fraction"];
+  EXPECT_GT(unshot, 0);
+  EXPECT_LT(unshot, 1);
+  bool lit_light = false;
+  for (const auto& e : sol["elements"]) {
+    for (double c : e["radiosity"]) ASSERT_TRUE(std::isfinite(c) && c >= 0);
+    lit_light = lit_light || (e["object"] == "light" && e["radiosity"][0].get<double>() > 50);
+  }
+  EXPECT_TRUE(lit_light);
+}
+
+TEST_F(RenderCli, WritesFiniteHdrExr) {
+  Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 -o " + path("w.exr"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  Image img = read_image(path("w.exr"));
+  float hi = 0;
+  for (float v : img.rgb) {
+    ASSERT_TRUE(std::isfinite(v) && v >= 0);
+    hi = std::max(hi, v);
+  }
+  EXPECT_GT(hi, 0.1f);
+}
+
+TEST_F(RenderCli, InvalidSceneNamesTheFieldOnOneLine) {
+  std::ofstream(path("bad.json")) << R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+    "materials": {"m": {}},
+    "objects": [{"type": "box", "material": "m", "size": [1, -1, 1]}]})";
+  Process r = run("render " + path("bad.json") + " -o " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "bumprad: error: " + path("bad.json") +
+                          ": /objects/0/size/1: must be greater than 0 (got -1)\n");
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+TEST_F(RenderCli, UsageErrors) {
+  Process r = run("render builtin:cornell");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("no output image given"), std::string::npos) << r.output;
+  r = run("render builtin:cornell -o " + path("x.png") + " --hemicube 151");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--hemicube: must be even"), std::string::npos) << r.output;
+  r = run("render builtin:cornell -o " + path("x.png") + " --shots many");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--shots: \"many\" is not an integer"), std::string::npos);
+  r = run("render builtin:nowhere -o " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("unknown built-in scene \"nowhere\""), std::string::npos);
+  r = run("render builtin:cornell --shots 1 -o " + path("x.tiff"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("unsupported image type"), std::string::npos) << r.output;
+  r = run("frobnicate");
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+TEST_F(RenderCli, ListsBuiltinScenes) {
+  Process r = run("scenes");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.output, "cornell\nwrinkled-box\npaper-room\n");
+}
+
+}  // namespace
+}  // namespace bumprad

@@ -1,0 +1,62 @@
+// PNG and EXR files round-trip through OpenImageIO; writes are atomic.
+#include "solver/image.h"
+
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+namespace bumprad {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  fs::path d = fs::temp_directory_path() /
+               ("bumprad-image-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+Image gradient() {
+  Image img(16, 8);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x) img.set(x, y, Rgb(x / 15.0, y / 7.0, 0.25));
+  return img;
+}
+
+TEST(Image, ExrKeepsLinearRadianceToHalfPrecision) {
+  fs::path p = temp_dir() / "g.exr";
+  write_image(p, gradient(), /*exposure ignored for EXR*/ 4.0);
+  Image back = read_image(p);
+  ASSERT_EQ(back.width, 16);
+  ASSERT_EQ(back.height, 8);
+  for (std::size_t i = 0; i < back.rgb.size(); ++i) EXPECT_NEAR(back.rgb[i], gradient().rgb[i], 1e-3);
+}
+
+TEST(Image, PngAppliesExposureAndSrgb) {
+  fs::path p = temp_dir() / "g.png";
+  write_image(p, gradient(), 0.5);
+  Image back = read_image(p);
+  for (std::size_t i = 0; i < back.rgb.size(); ++i)
+    EXPECT_NEAR(back.rgb[i], 0.5 * gradient().rgb[i], 0.01);  // 8-bit steps in sRGB
+  EXPECT_NEAR(srgb_encode(0.0031308), 0.04045, 1e-5);
+  EXPECT_DOUBLE_EQ(srgb_encode(2.0), 1.0);
+}
+
+TEST(Image, RefusesUnknownTypesAndLeavesNoTemporaryFiles) {
+  fs::path d = temp_dir();
+  EXPECT_THROW(write_image(d / "x.bmpx", gradient(), 1), std::runtime_error);
+  write_image(d / "keep.png", gradient(), 1);
+  auto before = fs::file_size(d / "keep.png");
+  // An unwritable target directory: the old file stays whole and nothing is left behind.
+  EXPECT_THROW(write_image(d / "missing" / "x.png", gradient(), 1), std::exception);
+  EXPECT_EQ(fs::file_size(d / "keep.png"), before);
+  int files = 0;
+  for (auto& e : fs::directory_iterator(d)) files += e.is_regular_file();
+  EXPECT_EQ(files, 1);
+}
+
+}  // namespace
+}  // namespace bumprad

@@ -1,0 +1,89 @@
+// The view pass shows B / pi, interpolates vertex radiosity linearly across elements, and
+// leaves back faces and misses black.
+#include "solver/view_pass.h"
+
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "solver/vertex_radiosity.h"
+#include "tests/test_scenes.h"
+
+namespace bumprad {
+namespace {
+
+// A 4 x 2 quad in z = 0 facing +z (toward the camera), split into 2 x 1 elements.
+Mesh two_element_quad() {
+  return build_mesh(test::scene_of({test::quad(
+      {Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}, 2, 1)}));
+}
+
+Camera facing(double z) {
+  Camera c;
+  c.position = Vec3(0, 0, z);
+  c.look_at = Vec3(0);
+  c.fov_y_deg = 60;
+  c.width = 64;
+  c.height = 32;
+  return c;
+}
+
+TEST(VertexRadiosity, AreaWeightedMeanAndBilinearInterpolation) {
+  Mesh m = two_element_quad();
+  ASSERT_EQ(m.elements.size(), 2u);
+  std::vector<Rgb> b = {Rgb(0), Rgb(2)};
+  auto v = vertex_radiosity(m, b);
+  // Left edge 0, shared middle edge the mean 1, right edge 2.
+  for (std::size_t i = 0; i < m.vertices.size(); ++i)
+    EXPECT_DOUBLE_EQ(v[i].r, m.vertices[i].position.x + 2 < 1e-9 ? 0
+                             : std::abs(m.vertices[i].position.x) < 1e-9 ? 1 : 2);
+  const Element& left = m.elements[m.elements[0].centroid.x < 0 ? 0 : 1];
+  EXPECT_DOUBLE_EQ(interpolate(left, v, 0.5, 0.3).r, 0.5);
+}
+
+TEST(ViewPass, ShowsRadiosityOverPiWithLinearRamp) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  std::vector<Rgb> b(2);
+  for (std::size_t i = 0; i < 2; ++i) b[i] = Rgb(m.elements[i].centroid.x < 0 ? 0 : 2);
+  Camera cam = facing(3);
+  Image img = render_view(m, rays, cam, b);
+  // Along the middle row the radiance is (x + 2) / 2 / pi where the ray meets the quad.
+  PinholeCamera pin(cam);
+  int checked = 0;
+  for (int x = 0; x < cam.width; ++x) {
+    Ray r = pin.ray(x + 0.5, cam.height / 2 + 0.5);
+    double t = -r.origin.z / r.direction.z;
+    double px = r.origin.x + t * r.direction.x;
+    if (std::abs(px) > 1.99) continue;
+    EXPECT_NEAR(img.at(x, cam.height / 2).r, (px + 2) / 2 / std::numbers::pi, 1e-5);
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+  EXPECT_EQ(img.at(0, 0).r, 0.0f);  // beyond the quad: a miss
+}
+
+TEST(ViewPass, BackFacesAreBlack) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  std::vector<Rgb> b(2, Rgb(1));
+  Image img = render_view(m, rays, facing(-3), b);
+  for (float v : img.rgb) EXPECT_EQ(v, 0.0f);
+}
+
+TEST(ViewPass, AntialiasingAveragesSubpixels) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  std::vector<Rgb> b(2, Rgb(std::numbers::pi));
+  Camera cam = facing(3);
+  cam.antialias = 4;
+  Image img = render_view(m, rays, cam, b);
+  // Inside: exactly 1. Along the quad's silhouette, fractional coverage.
+  EXPECT_NEAR(img.at(cam.width / 2, cam.height / 2).r, 1.0, 1e-6);
+  bool partial = false;
+  for (float v : img.rgb) partial = partial || (v > 0.05f && v < 0.95f);
+  EXPECT_TRUE(partial);
+}
+
+}  // namespace
+}  // namespace bumprad
