@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli/scene_source.h"
+#include "protocol/scene_source.h"
 #include "protocol/scene_json.h"
 #include "protocol/solution_json.h"
 #include "solver/atomic_file.h"

@@ -145,28 +145,35 @@ void Hemicube::render(const Vec3& origin, const Frame& frame,
   double near = std::max(mesh_.diagonal(), far) * 1e-5;
   far = far * 1.01 + near;
 
-  // CPU culling: an element is drawn on a face only if it faces the origin and has a
-  // corner in front of that face (for the side faces, also above the tangent plane).
+  // CPU culling: an element is drawn on a face only if it faces the origin and is not
+  // wholly outside one of the face's four frustum planes (all through the origin).
   const glm::vec3 o(origin);
   std::array<Vec3, kFaces> forward;
-  for (int f = 0; f < kFaces; ++f) forward[f] = frame.to_world(kFaceTable[f].forward);
+  std::array<std::array<glm::vec3, 4>, kFaces> planes;
+  for (int f = 0; f < kFaces; ++f) {
+    const Face& face = kFaceTable[f];
+    Vec3 fw = frame.to_world(face.forward), up = frame.to_world(face.up);
+    Vec3 right = glm::cross(fw, up);
+    forward[f] = fw;
+    planes[f] = {glm::vec3(fw - right), glm::vec3(fw + right), glm::vec3(fw - up),
+                 glm::vec3(face.ey_min < 0 ? fw + up : up)};
+  }
   auto& face_indices = face_indices_;
   for (auto& v : face_indices) v.clear();
-  const glm::vec3 nz(frame.z);
   for (std::size_t e = 0; e < mesh_.elements.size(); ++e) {
     const Element& el = mesh_.elements[e];
     if (skip_patch && el.patch == *skip_patch) continue;
     if (glm::dot(el.normal, origin - el.centroid) <= 0) continue;
     const glm::vec3* c = &corners_[4 * e];
-    glm::vec3 rel[4] = {c[0] - o, c[1] - o, c[2] - o, c[3] - o};
-    auto in_front = [&](const glm::vec3& axis) {
-      return glm::dot(rel[0], axis) > 0 || glm::dot(rel[1], axis) > 0 ||
-             glm::dot(rel[2], axis) > 0 || glm::dot(rel[3], axis) > 0;
+    const glm::vec3 rel[4] = {c[0] - o, c[1] - o, c[2] - o, c[3] - o};
+    auto outside = [&](const glm::vec3& n) {
+      return glm::dot(rel[0], n) < 0 && glm::dot(rel[1], n) < 0 && glm::dot(rel[2], n) < 0 &&
+             glm::dot(rel[3], n) < 0;
     };
-    if (!in_front(nz)) continue;
     std::uint32_t base = std::uint32_t(4 * e);
     for (int f = 0; f < kFaces; ++f) {
-      if (f > 0 && !in_front(glm::vec3(forward[f]))) continue;
+      const auto& p = planes[f];
+      if (outside(p[0]) || outside(p[1]) || outside(p[2]) || outside(p[3])) continue;
       auto& idx = face_indices[f];
       idx.insert(idx.end(), {base, base + 1, base + 2});
       if (el.vertex_count == 4) idx.insert(idx.end(), {base, base + 2, base + 3});

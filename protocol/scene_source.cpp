@@ -1,4 +1,4 @@
-#include "cli/scene_source.h"
+#include "protocol/scene_source.h"
 
 #include <fstream>
 #include <sstream>
