@@ -95,8 +95,12 @@ int render_command(std::span<const std::string_view> args) {
     auto t0 = std::chrono::steady_clock::now();
     Mesh mesh = build_mesh(scene);
     ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+    // On a terminal the progress line rewrites itself every step; in a log, a line a second.
     const bool tty = ::isatty(STDERR_FILENO);
+    auto last_line = std::chrono::steady_clock::now();
     solver.run([&](const Snapshot& s) {
+      if (!tty && !s.final && seconds_since(last_line) < 1) return true;
+      last_line = std::chrono::steady_clock::now();
       std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
                    scene.solver.max_shots, 100 * s.unshot_fraction, tty ? "" : "\n");
       return true;

@@ -2,6 +2,10 @@
 // reason it gives; plus the defaults a minimal scene gets.
 #include "protocol/scene_json.h"
 
+#include <fstream>
+#include <set>
+#include <sstream>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -233,6 +237,50 @@ TEST(SceneJson, SolverOverridesUseTheSameChecks) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), "/settings/preview_every");
   }
+}
+
+}  // namespace
+}  // namespace bumprad
+
+namespace bumprad {
+namespace {
+
+// The keys the parser accepts, as its unknown-key message lists them.
+std::set<std::string> accepted_keys(nlohmann::json doc, const nlohmann::json::json_pointer& at) {
+  doc[at / "no_such_key"] = 1;
+  try {
+    parse_scene(doc);
+  } catch (const SceneError& e) {
+    std::string m = e.what();
+    auto from = m.find("expected one of: ") + 17;
+    std::stringstream list(m.substr(from, m.rfind(')') - from));
+    std::set<std::string> keys;
+    for (std::string k; std::getline(list, k, ',');) keys.insert(k.substr(k.find_first_not_of(' ')));
+    return keys;
+  }
+  ADD_FAILURE() << "no_such_key accepted at " << at;
+  return {};
+}
+
+std::set<std::string> schema_keys(const nlohmann::json& props) {
+  std::set<std::string> keys;
+  for (auto it = props.begin(); it != props.end(); ++it) keys.insert(it.key());
+  return keys;
+}
+
+TEST(SceneSchema, ListsExactlyTheKeysTheParserAccepts) {
+  std::ifstream in(std::string(BUMPRAD_SOURCE_DIR) + "/protocol/scene.schema.json");
+  auto schema = nlohmann::json::parse(in);
+  nlohmann::json doc = minimal();
+  doc["objects"][0]["mesh"] = nlohmann::json::object();
+  doc["solver"] = nlohmann::json::object();
+  using ptr = nlohmann::json::json_pointer;
+  EXPECT_EQ(accepted_keys(doc, ptr("")), schema_keys(schema["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/camera")), schema_keys(schema["properties"]["camera"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/materials/white")),
+            schema_keys(schema["$defs"]["material"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/objects/0/mesh")), schema_keys(schema["$defs"]["mesh"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/solver")), schema_keys(schema["properties"]["solver"]["properties"]));
 }
 
 }  // namespace
