@@ -35,9 +35,12 @@ int main(int argc, char** argv) {
   int shots = -1, hemicube = -1;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--shots" && i + 1 < argc) shots = std::atoi(argv[++i]);
-    else if (a == "--hemicube" && i + 1 < argc) hemicube = std::atoi(argv[++i]);
-    else if (a[0] != '-') source = a;
+    if (a == "--shots" && i + 1 < argc)
+      shots = std::atoi(argv[++i]);
+    else if (a == "--hemicube" && i + 1 < argc)
+      hemicube = std::atoi(argv[++i]);
+    else if (a[0] != '-')
+      source = a;
     else {
       std::fprintf(stderr, "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R]\n");
       return 2;

@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "protocol/scene_source.h"
 #include "protocol/scene_json.h"
+#include "protocol/scene_source.h"
 #include "protocol/solution_json.h"
 #include "solver/atomic_file.h"
 #include "solver/image.h"
@@ -55,13 +55,20 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
   };
   for (std::size_t i = 0; i < args.size(); ++i) {
     std::string_view a = args[i];
-    if (a == "-o" || a == "--output") r.output = value(i);
-    else if (a == "--shots") r.overrides["max_shots"] = integer(i);
-    else if (a == "--hemicube") r.overrides["hemicube_resolution"] = integer(i);
-    else if (a == "--export-solution") r.solution = value(i);
-    else if (a.starts_with("-")) throw UsageError("unknown option " + std::string(a));
-    else if (r.scene.empty()) r.scene = a;
-    else throw UsageError("more than one scene given");
+    if (a == "-o" || a == "--output")
+      r.output = value(i);
+    else if (a == "--shots")
+      r.overrides["max_shots"] = integer(i);
+    else if (a == "--hemicube")
+      r.overrides["hemicube_resolution"] = integer(i);
+    else if (a == "--export-solution")
+      r.solution = value(i);
+    else if (a.starts_with("-"))
+      throw UsageError("unknown option " + std::string(a));
+    else if (r.scene.empty())
+      r.scene = a;
+    else
+      throw UsageError("more than one scene given");
   }
   if (r.scene.empty()) throw UsageError("no scene given");
   if (r.output.empty()) throw UsageError("no output image given (-o OUT.png or OUT.exr)");
@@ -116,8 +123,7 @@ int render_command(std::span<const std::string_view> args) {
     double seconds_view = seconds_since(t1);
 
     if (!a.solution.empty())
-      write_file_atomically(a.solution,
-                            solution_to_json(scene, mesh, solver.radiosity(), stats));
+      write_file_atomically(a.solution, solution_to_json(scene, mesh, solver.radiosity(), stats));
     std::printf(
         "wrote %s (%dx%d): %d shots, %zu elements, %zu patches, unshot %.2f%%, solve %.2f s, "
         "view %.2f s\n",

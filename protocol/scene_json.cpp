@@ -27,9 +27,12 @@ std::string describe(double x) {
 std::string escape_token(std::string_view key) {
   std::string out;
   for (char c : key) {
-    if (c == '~') out += "~0";
-    else if (c == '/') out += "~1";
-    else out += c;
+    if (c == '~')
+      out += "~0";
+    else if (c == '/')
+      out += "~1";
+    else
+      out += c;
   }
   return out;
 }
@@ -56,7 +59,9 @@ class Node {
     if (it == value_.end()) return std::nullopt;
     return Node(*it, pointer_ + "/" + escape_token(key));
   }
-  Node operator[](std::size_t i) const { return Node(value_[i], pointer_ + "/" + std::to_string(i)); }
+  Node operator[](std::size_t i) const {
+    return Node(value_[i], pointer_ + "/" + std::to_string(i));
+  }
 
   const json& object() const {
     if (!value_.is_object()) fail("must be an object");
@@ -69,15 +74,17 @@ class Node {
       std::string list;
       for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
       Node(*it, pointer_ + "/" + escape_token(it.key()))
-          .fail("unknown key" + (what.empty() ? "" : " for a " + what) + " (expected one of: " +
-                list + ")");
+          .fail("unknown key" + (what.empty() ? "" : " for a " + what) +
+                " (expected one of: " + list + ")");
     }
   }
   std::size_t array(std::size_t min, std::size_t max) const {
     if (!value_.is_array()) fail("must be an array");
     std::size_t n = value_.size();
     if (n < min || n > max) {
-      if (min == max) fail("must have exactly " + std::to_string(min) + " entries (got " + std::to_string(n) + ")");
+      if (min == max)
+        fail("must have exactly " + std::to_string(min) + " entries (got " + std::to_string(n) +
+             ")");
       fail("must have between " + std::to_string(min) + " and " + std::to_string(max) +
            " entries (got " + std::to_string(n) + ")");
     }
@@ -98,8 +105,8 @@ class Node {
   double in_range(double lo, double hi, bool hi_open) const {
     double x = number();
     if (x < lo || x > hi || (hi_open && x == hi))
-      fail("must be in [" + describe(lo) + ", " + describe(hi) + (hi_open ? ")" : "]") +
-           " (got " + describe(x) + ")");
+      fail("must be in [" + describe(lo) + ", " + describe(hi) + (hi_open ? ")" : "]") + " (got " +
+           describe(x) + ")");
     return x;
   }
   long long integer(long long lo, long long hi) const {
@@ -147,8 +154,8 @@ class Node {
 constexpr double kHuge = 1e300;
 
 Camera parse_camera(const Node& n) {
-  n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure",
-                "antialias"});
+  n.allow_only(
+      {"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias"});
   Camera c;
   c.position = n["position"].vec3();
   c.look_at = n["look_at"].vec3();
@@ -217,7 +224,8 @@ QuadShape parse_quad(const Node& n) {
       if (!(glm::length(p[i] - p[j]) > 1e-9 * scale))
         vs[j].fail("degenerate quad: vertex repeats vertex " + std::to_string(i));
   Vec3 normal = glm::cross(p[2] - p[0], p[3] - p[1]);
-  if (!(glm::length(normal) > 1e-12 * scale * scale)) vs.fail("degenerate quad: zero area, or self-intersecting");
+  if (!(glm::length(normal) > 1e-12 * scale * scale))
+    vs.fail("degenerate quad: zero area, or self-intersecting");
   normal = glm::normalize(normal);
   for (std::size_t i = 0; i < 4; ++i) {
     Vec3 turn = glm::cross(p[(i + 1) % 4] - p[i], p[(i + 2) % 4] - p[(i + 1) % 4]);
@@ -245,8 +253,7 @@ TriangleMeshShape parse_triangle_mesh(const Node& n) {
     Node t = ts[i];
     t.array(3, 3);
     std::array<std::uint32_t, 3> tri;
-    for (std::size_t k = 0; k < 3; ++k)
-      tri[k] = std::uint32_t(t[k].integer(0, (long long)np - 1));
+    for (std::size_t k = 0; k < 3; ++k) tri[k] = std::uint32_t(t[k].integer(0, (long long)np - 1));
     Vec3 a = m.positions[tri[0]], b = m.positions[tri[1]], c = m.positions[tri[2]];
     double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
     if (!(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale))

@@ -4,8 +4,8 @@
 
 namespace bumprad {
 
-std::string solution_to_json(const Scene& scene, const Mesh& mesh,
-                             std::span<const Rgb> radiosity, const SolveStats& stats) {
+std::string solution_to_json(const Scene& scene, const Mesh& mesh, std::span<const Rgb> radiosity,
+                             const SolveStats& stats) {
   nlohmann::json elements = nlohmann::json::array();
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];

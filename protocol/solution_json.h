@@ -12,7 +12,7 @@ namespace bumprad {
 
 // {"elements": [{"id", "object", "area", "radiosity": [r,g,b]}...], "stats": {...}}.
 // Radiosity is the solved B in W/m^2, without the display-only ambient term.
-std::string solution_to_json(const Scene& scene, const Mesh& mesh,
-                             std::span<const Rgb> radiosity, const SolveStats& stats);
+std::string solution_to_json(const Scene& scene, const Mesh& mesh, std::span<const Rgb> radiosity,
+                             const SolveStats& stats);
 
 }  // namespace bumprad

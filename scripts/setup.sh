@@ -4,12 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Keep this list in step with docker/Dockerfile.
-packages=(
-  build-essential cmake pkg-config
-  libosmesa6-dev libglm-dev libopenimageio-dev libboost-dev libboost-system-dev
-  nlohmann-json3-dev libembree-dev libgtest-dev
-)
+mapfile -t packages < <(grep -v '^#' scripts/debian-packages.txt | grep -v '^$')
 
 missing=()
 for p in "${packages[@]}"; do

@@ -31,7 +31,9 @@ GlContext::GlContext(int width, int height)
   make_current();
 }
 
-GlContext::~GlContext() { OSMesaDestroyContext(context_); }
+GlContext::~GlContext() {
+  OSMesaDestroyContext(context_);
+}
 
 void GlContext::make_current() {
   if (!OSMesaMakeCurrent(context_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_))

@@ -31,8 +31,12 @@ const Face kFaceTable[kFaces] = {
     {{0, 1, 0}, {0, 0, 1}, 0},   //
     {{0, -1, 0}, {0, 0, 1}, 0},
 };
-int face_row0(int face, int r) { return face == 0 ? 0 : r + (face - 1) * (r / 2); }
-int face_rows(int face, int r) { return face == 0 ? r : r / 2; }
+int face_row0(int face, int r) {
+  return face == 0 ? 0 : r + (face - 1) * (r / 2);
+}
+int face_rows(int face, int r) {
+  return face == 0 ? r : r / 2;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

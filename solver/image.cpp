@@ -65,7 +65,8 @@ Image read_image(const std::filesystem::path& path) {
   Image img(spec.width, spec.height);
   for (std::size_t i = 0, n = std::size_t(spec.width) * std::size_t(spec.height); i < n; ++i)
     for (std::size_t c = 0; c < 3; ++c) {
-      float v = px[i * std::size_t(spec.nchannels) + std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
+      float v = px[i * std::size_t(spec.nchannels) +
+                   std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
       if (srgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
       img.rgb[3 * i + c] = v;
     }

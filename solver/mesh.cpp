@@ -63,12 +63,12 @@ Grid quad_grid(const QuadShape& q, const MeshDensity& d, double size) {
   g.position = [p](double u, double v) {
     return (1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] + (1 - u) * v * p[3];
   };
-  g.nu = d.counts[0] ? d.counts[0]
-                     : count_for(std::max(glm::length(p[1] - p[0]), glm::length(p[2] - p[3])),
-                                 size, 1);
-  g.nv = d.counts[1] ? d.counts[1]
-                     : count_for(std::max(glm::length(p[3] - p[0]), glm::length(p[2] - p[1])),
-                                 size, 1);
+  g.nu = d.counts[0]
+             ? d.counts[0]
+             : count_for(std::max(glm::length(p[1] - p[0]), glm::length(p[2] - p[3])), size, 1);
+  g.nv = d.counts[1]
+             ? d.counts[1]
+             : count_for(std::max(glm::length(p[3] - p[0]), glm::length(p[2] - p[1])), size, 1);
   return g;
 }
 
@@ -89,7 +89,8 @@ ShapeGrids grids_for(const Object& object, double default_size) {
         if constexpr (std::is_same_v<T, QuadShape>) {
           out.surfaces.push_back(quad_grid(s, d, size));
         } else if constexpr (std::is_same_v<T, BoxShape>) {
-          for (const QuadShape& face : box_faces(s)) out.surfaces.push_back(quad_grid(face, d, size));
+          for (const QuadShape& face : box_faces(s))
+            out.surfaces.push_back(quad_grid(face, d, size));
         } else if constexpr (std::is_same_v<T, SphereShape>) {
           Grid g;
           Vec3 c = s.center;
@@ -274,7 +275,9 @@ class SurfaceBuilder {
   std::vector<std::vector<Element>> pending_;
 };
 
-std::uint64_t patch_key(int pu, int pv) { return (std::uint64_t(pu) << 32) | std::uint32_t(pv); }
+std::uint64_t patch_key(int pu, int pv) {
+  return (std::uint64_t(pu) << 32) | std::uint32_t(pv);
+}
 
 void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
   sb.begin_surface();
@@ -318,8 +321,8 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     };
     for (int j = 0; j < g.n; ++j)
       for (int i = 0; i + j < g.n; ++i) {
-        std::uint64_t key = (std::uint64_t(t) << 32) | (std::uint64_t(j / k) << 16) |
-                            std::uint64_t(i / k);
+        std::uint64_t key =
+            (std::uint64_t(t) << 32) | (std::uint64_t(j / k) << 16) | std::uint64_t(i / k);
         std::uint32_t patch = sb.patch_for(key);
         sb.add_element(patch, {id(i, j), id(i + 1, j), id(i, j + 1), 0}, 3);
         if (i + j + 1 < g.n)
@@ -355,7 +358,9 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
 
 }  // namespace
 
-double Mesh::diagonal() const { return glm::length(bounds_max - bounds_min); }
+double Mesh::diagonal() const {
+  return glm::length(bounds_max - bounds_min);
+}
 
 double default_element_size(const Scene& scene) {
   if (scene.solver.element_size > 0) return scene.solver.element_size;
@@ -392,8 +397,8 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
   if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
     std::size_t total = 0;
     for (const auto& t : m->triangles) {
-      bool valid = t[0] < m->positions.size() && t[1] < m->positions.size() &&
-                   t[2] < m->positions.size();
+      bool valid =
+          t[0] < m->positions.size() && t[1] < m->positions.size() && t[2] < m->positions.size();
       std::size_t n = valid ? std::size_t(triangle_subdivisions(*m, t, object.density, size)) : 1;
       total += n * n;
     }

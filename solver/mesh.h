@@ -15,13 +15,14 @@ namespace bumprad {
 
 struct Vertex {
   Vec3 position;
-  Vec3 normal;          // area-weighted mean of the adjacent element normals
-  glm::dvec2 uv;        // the surface's own (u,v) parameterisation in [0,1]^2
-  Vec3 dpdu, dpdv;      // parametric derivatives: the tangent frame for bump perturbation
+  Vec3 normal;      // area-weighted mean of the adjacent element normals
+  glm::dvec2 uv;    // the surface's own (u,v) parameterisation in [0,1]^2
+  Vec3 dpdu, dpdv;  // parametric derivatives: the tangent frame for bump perturbation
 };
 
 struct Element {
-  std::array<std::uint32_t, 4> v{};  // counter-clockwise seen from the front; v[3] unused if triangle
+  std::array<std::uint32_t, 4>
+      v{};  // counter-clockwise seen from the front; v[3] unused if triangle
   int vertex_count = 4;
   std::uint32_t patch = 0;
   std::uint32_t surface = 0;

@@ -11,7 +11,9 @@
 namespace bumprad {
 namespace {
 
-double channel_sum(const Rgb& c) { return c.r + c.g + c.b; }
+double channel_sum(const Rgb& c) {
+  return c.r + c.g + c.b;
+}
 
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
 constexpr double kNearField = 3.0;
@@ -155,7 +157,8 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
   if (!(at_origin > 0)) return hemicube_form_factor;
   double visible = std::min(1.0, hemicube_form_factor / at_origin);
   double mean = 0;
-  for (const ShooterSample& s : samples_[patch]) mean += s.weight * point_to_polygon(s.point, n, receiver);
+  for (const ShooterSample& s : samples_[patch])
+    mean += s.weight * point_to_polygon(s.point, n, receiver);
   return visible * mean;
 }
 
@@ -170,7 +173,8 @@ void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step)
 
 std::vector<Rgb> ProgressiveSolver::display_radiosity() const {
   Rgb unshot_mean(0);
-  for (std::size_t i = 0; i < unshot_.size(); ++i) unshot_mean += unshot_[i] * mesh_.elements[i].area;
+  for (std::size_t i = 0; i < unshot_.size(); ++i)
+    unshot_mean += unshot_[i] * mesh_.elements[i].area;
   Rgb ambient = total_area_ > 0 ? ambient_factor_ * unshot_mean / total_area_ : Rgb(0);
   std::vector<Rgb> out(radiosity_.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = radiosity_[i] + reflectance_[i] * ambient;

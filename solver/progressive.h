@@ -76,9 +76,9 @@ class ProgressiveSolver {
   SolverSettings settings_;
   std::vector<std::vector<ShooterSample>> samples_;  // per patch, for the near field
   Hemicube hemicube_;
-  std::vector<Rgb> reflectance_;   // per element
-  std::vector<Rgb> radiosity_;     // B, per element
-  std::vector<Rgb> unshot_;        // dB, per element
+  std::vector<Rgb> reflectance_;            // per element
+  std::vector<Rgb> radiosity_;              // B, per element
+  std::vector<Rgb> unshot_;                 // dB, per element
   std::vector<double> patch_unshot_power_;  // A * (dB.r + dB.g + dB.b), per patch
   Rgb emitted_{0}, absorbed_{0}, escaped_{0};
   Rgb ambient_factor_{0};  // 1 / (1 - area-weighted mean reflectance)

@@ -17,11 +17,10 @@ unsigned attach(RTCDevice device, RTCScene scene, const Mesh& mesh, int corners,
   for (std::uint32_t i = 0; i < mesh.elements.size(); ++i)
     if (mesh.elements[i].vertex_count == corners) prim_to_element.push_back(i);
   if (prim_to_element.empty()) return RTC_INVALID_GEOMETRY_ID;
-  RTCGeometry g = rtcNewGeometry(
-      device, corners == 4 ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                        mesh.vertices.size()));
+  RTCGeometry g =
+      rtcNewGeometry(device, corners == 4 ? RTC_GEOMETRY_TYPE_QUAD : RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+      g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
     for (int k = 0; k < 3; ++k) v[3 * i + k] = float(mesh.vertices[i].position[k]);
   auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(

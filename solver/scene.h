@@ -84,7 +84,7 @@ using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, Tria
 struct Object {
   std::string name;
   Shape shape;
-  int material = 0;  // index into Scene::materials
+  int material = 0;           // index into Scene::materials
   bool flip_normals = false;  // e.g. a box seen from inside
   MeshDensity density;
 };

@@ -36,8 +36,8 @@ class RenderCli : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("bumprad-cli-" + std::string(
-                                 ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("bumprad-cli-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -47,7 +47,7 @@ class RenderCli : public ::testing::Test {
 
 TEST_F(RenderCli, RendersTheCornellBoxAndExportsTheSolution) {
   Process r = run("render builtin:cornell --shots 40 -o " + path("c.png") + " --export-solution " +
-              path("s.json"));
+                  path("s.json"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("shot 40/40"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("wrote " + path("c.png")), std::string::npos) << r.output;

@@ -132,8 +132,11 @@ TEST(SceneJson, NegativeAndZeroSizes) {
   d["objects"][0]["mesh"] = {{"element_size", -1}};
   expect_rejected(d, "/objects/0/mesh/element_size", "must be greater than 0");
   d = minimal();
-  d["objects"][1] = {{"type", "cylinder"}, {"material", "white"}, {"base", {0, 0, 0}},
-                     {"top", {0, 0, 0}}, {"radius", 1}};
+  d["objects"][1] = {{"type", "cylinder"},
+                     {"material", "white"},
+                     {"base", {0, 0, 0}},
+                     {"top", {0, 0, 0}},
+                     {"radius", 1}};
   expect_rejected(d, "/objects/1/top", "must differ from base");
 }
 
@@ -255,7 +258,8 @@ std::set<std::string> accepted_keys(nlohmann::json doc, const nlohmann::json::js
     auto from = m.find("expected one of: ") + 17;
     std::stringstream list(m.substr(from, m.rfind(')') - from));
     std::set<std::string> keys;
-    for (std::string k; std::getline(list, k, ',');) keys.insert(k.substr(k.find_first_not_of(' ')));
+    for (std::string k; std::getline(list, k, ',');)
+      keys.insert(k.substr(k.find_first_not_of(' ')));
     return keys;
   }
   ADD_FAILURE() << "no_such_key accepted at " << at;
@@ -276,11 +280,14 @@ TEST(SceneSchema, ListsExactlyTheKeysTheParserAccepts) {
   doc["solver"] = nlohmann::json::object();
   using ptr = nlohmann::json::json_pointer;
   EXPECT_EQ(accepted_keys(doc, ptr("")), schema_keys(schema["properties"]));
-  EXPECT_EQ(accepted_keys(doc, ptr("/camera")), schema_keys(schema["properties"]["camera"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/camera")),
+            schema_keys(schema["properties"]["camera"]["properties"]));
   EXPECT_EQ(accepted_keys(doc, ptr("/materials/white")),
             schema_keys(schema["$defs"]["material"]["properties"]));
-  EXPECT_EQ(accepted_keys(doc, ptr("/objects/0/mesh")), schema_keys(schema["$defs"]["mesh"]["properties"]));
-  EXPECT_EQ(accepted_keys(doc, ptr("/solver")), schema_keys(schema["properties"]["solver"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/objects/0/mesh")),
+            schema_keys(schema["$defs"]["mesh"]["properties"]));
+  EXPECT_EQ(accepted_keys(doc, ptr("/solver")),
+            schema_keys(schema["properties"]["solver"]["properties"]));
 }
 
 }  // namespace

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <random>
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "solver/form_factor_exact.h"
 #include "tests/test_scenes.h"
@@ -86,8 +86,8 @@ double area_form_factor(Hemicube& h, const Vec3& corner, const Vec3& du, const V
 TEST(Hemicube, ParallelCoaxialSquares) {
   Mesh mesh = build_mesh(test::scene_of({test::quad(test::rectangle_facing_down(1, 1, 1))}));
   Hemicube h(mesh, 150);
-  double f = area_form_factor(h, Vec3(-0.5, -0.5, 0), Vec3(1, 0, 0), Vec3(0, 1, 0),
-                              Vec3(0, 0, 1), 16);
+  double f =
+      area_form_factor(h, Vec3(-0.5, -0.5, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), 16);
   double exact = parallel_rectangles(1, 1, 1);
   std::printf("parallel squares: hemi-cube %.5f, exact %.5f\n", f, exact);
   EXPECT_NEAR(f, exact, 0.003 * exact);  // measured +0.06%

@@ -11,9 +11,10 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() /
-               ("bumprad-image-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::path d =
+      fs::temp_directory_path() /
+      ("bumprad-image-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+       "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -32,7 +33,8 @@ TEST(Image, ExrKeepsLinearRadianceToHalfPrecision) {
   Image back = read_image(p);
   ASSERT_EQ(back.width, 16);
   ASSERT_EQ(back.height, 8);
-  for (std::size_t i = 0; i < back.rgb.size(); ++i) EXPECT_NEAR(back.rgb[i], gradient().rgb[i], 1e-3);
+  for (std::size_t i = 0; i < back.rgb.size(); ++i)
+    EXPECT_NEAR(back.rgb[i], gradient().rgb[i], 1e-3);
 }
 
 TEST(Image, PngAppliesExposureAndSrgb) {

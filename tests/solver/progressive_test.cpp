@@ -34,8 +34,8 @@ TEST(Progressive, FurnaceConvergesToEmissionOverOneMinusRho) {
       worst = std::max(worst, std::abs(b.g - expected));
       mean += std::abs(b.g - expected) / double(mesh.elements.size());
     }
-    std::printf("furnace rho=%.1f: %d shots, |B - E/(1-rho)| / B: worst %.2e, mean %.2e\n",
-                rho, solver.shots(), worst / expected, mean / expected);
+    std::printf("furnace rho=%.1f: %d shots, |B - E/(1-rho)| / B: worst %.2e, mean %.2e\n", rho,
+                solver.shots(), worst / expected, mean / expected);
     // Shooting from patch centres is not exactly reciprocal. With the near-field
     // correction, measured worst / mean: 0.58% / 0.21% (rho 0.5), 0.89% / 0.34% (rho 0.8);
     // without it 7.5% / 4.0% at rho 0.5.

@@ -14,8 +14,8 @@ namespace {
 
 // A 4 x 2 quad in z = 0 facing +z (toward the camera), split into 2 x 1 elements.
 Mesh two_element_quad() {
-  return build_mesh(test::scene_of({test::quad(
-      {Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}, 2, 1)}));
+  return build_mesh(test::scene_of(
+      {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}, 2, 1)}));
 }
 
 Camera facing(double z) {
@@ -35,8 +35,9 @@ TEST(VertexRadiosity, AreaWeightedMeanAndBilinearInterpolation) {
   auto v = vertex_radiosity(m, b);
   // Left edge 0, shared middle edge the mean 1, right edge 2.
   for (std::size_t i = 0; i < m.vertices.size(); ++i)
-    EXPECT_DOUBLE_EQ(v[i].r, m.vertices[i].position.x + 2 < 1e-9 ? 0
-                             : std::abs(m.vertices[i].position.x) < 1e-9 ? 1 : 2);
+    EXPECT_DOUBLE_EQ(v[i].r, m.vertices[i].position.x + 2 < 1e-9         ? 0
+                             : std::abs(m.vertices[i].position.x) < 1e-9 ? 1
+                                                                         : 2);
   const Element& left = m.elements[m.elements[0].centroid.x < 0 ? 0 : 1];
   EXPECT_DOUBLE_EQ(interpolate(left, v, 0.5, 0.3).r, 0.5);
 }
