@@ -20,10 +20,6 @@ struct Grid {
   int nu = 1, nv = 1;
 };
 
-struct ShapeGrids {
-  std::vector<Grid> surfaces;
-};
-
 std::array<Vec3, 8> box_corners(const BoxShape& box) {
   glm::dmat4 r(1.0);
   r = glm::rotate(r, glm::radians(box.rotation_deg.z), Vec3(0, 0, 1));
@@ -79,18 +75,17 @@ void perpendicular_frame(const Vec3& a, Vec3& e1, Vec3& e2) {
   e2 = glm::cross(a, e1);
 }
 
-ShapeGrids grids_for(const Object& object, double default_size) {
+std::vector<Grid> grids_for(const Object& object, double default_size) {
   const MeshDensity& d = object.density;
   double size = d.element_size > 0 ? d.element_size : default_size;
-  ShapeGrids out;
+  std::vector<Grid> out;
   std::visit(
       [&](const auto& s) {
         using T = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<T, QuadShape>) {
-          out.surfaces.push_back(quad_grid(s, d, size));
+          out.push_back(quad_grid(s, d, size));
         } else if constexpr (std::is_same_v<T, BoxShape>) {
-          for (const QuadShape& face : box_faces(s))
-            out.surfaces.push_back(quad_grid(face, d, size));
+          for (const QuadShape& face : box_faces(s)) out.push_back(quad_grid(face, d, size));
         } else if constexpr (std::is_same_v<T, SphereShape>) {
           Grid g;
           Vec3 c = s.center;
@@ -103,7 +98,7 @@ ShapeGrids grids_for(const Object& object, double default_size) {
           };
           g.nu = d.counts[0] ? d.counts[0] : count_for(2 * kPi * r, size, 12);
           g.nv = d.counts[1] ? d.counts[1] : count_for(kPi * r, size, 6);
-          out.surfaces.push_back(g);
+          out.push_back(g);
         } else if constexpr (std::is_same_v<T, CylinderShape>) {
           Vec3 axis = s.top - s.base;
           double h = glm::length(axis);
@@ -118,7 +113,7 @@ ShapeGrids grids_for(const Object& object, double default_size) {
           };
           side.nu = around;
           side.nv = d.counts[1] ? d.counts[1] : count_for(h, size, 1);
-          out.surfaces.push_back(side);
+          out.push_back(side);
           if (s.caps) {
             int radial = count_for(r, size, 1);
             Grid top, bottom;
@@ -132,8 +127,8 @@ ShapeGrids grids_for(const Object& object, double default_size) {
             };
             top.nu = bottom.nu = around;
             top.nv = bottom.nv = radial;
-            out.surfaces.push_back(top);
-            out.surfaces.push_back(bottom);
+            out.push_back(top);
+            out.push_back(bottom);
           }
         }
       },
@@ -405,7 +400,7 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
     return total;
   }
   std::size_t total = 0;
-  for (const Grid& g : grids_for(object, default_size).surfaces)
+  for (const Grid& g : grids_for(object, default_size))
     total += std::size_t(g.nu) * std::size_t(g.nv);
   return total;
 }
@@ -423,7 +418,7 @@ Mesh build_mesh(const Scene& scene) {
       double object_size = object.density.element_size > 0 ? object.density.element_size : size;
       mesh_triangles(sb, *m, object.density, object_size, k);
     } else {
-      for (const Grid& g : grids_for(object, size).surfaces) mesh_grid(sb, g, k);
+      for (const Grid& g : grids_for(object, size)) mesh_grid(sb, g, k);
     }
   }
 
