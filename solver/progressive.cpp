@@ -102,7 +102,8 @@ bool ProgressiveSolver::shoot() {
   if (settings_.rotate_hemicube)
     angle = std::uniform_real_distribution<double>(0, 2 * std::numbers::pi)(rng_);
   Vec3 origin = patch.centroid + patch.normal * (mesh_.diagonal() * 1e-6);
-  hemicube_.render(origin, frame_about(patch.normal, angle), pi);
+  const Frame frame = frame_about(patch.normal, angle);
+  hemicube_.render(origin, frame, pi);
 
   // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
   // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
@@ -116,12 +117,13 @@ bool ProgressiveSolver::shoot() {
     corrected += v.form_factor;
   }
   const double scale = corrected > 0 ? seen / corrected : 0;
+  for (VisibleElement& v : visible) v.form_factor *= scale;
 
   // Element i receives power dB_j A_j F_ji and reflects rho_i of it:
   // dB_i += rho_i dB_j F_ji A_j / A_i.
   for (const VisibleElement& v : visible) {
     const Element& e = mesh_.elements[v.element];
-    Rgb incident = shot_power * (v.form_factor * scale);
+    Rgb incident = shot_power * v.form_factor;
     Rgb reflected = reflectance_[v.element] * incident;
     Rgb dB = reflected / e.area;
     radiosity_[v.element] += dB;
@@ -132,10 +134,17 @@ bool ProgressiveSolver::shoot() {
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
   ++shots_;
 
-  last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(),
+  double texture_s = 0;
+  if (map_) {
+    auto t1 = std::chrono::steady_clock::now();
+    map_->shoot(hemicube_, frame, shot_power, visible);
+    texture_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  }
+  last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
   total_.render_s += last_shot_.render_s;
   total_.accumulate_s += last_shot_.accumulate_s;
+  total_.texture_s += last_shot_.texture_s;
   total_.total_s += last_shot_.total_s;
   return true;
 }

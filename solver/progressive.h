@@ -9,6 +9,7 @@
 
 #include "solver/hemicube.h"
 #include "solver/mesh.h"
+#include "solver/perturbed_map.h"
 #include "solver/scene.h"
 
 namespace bumprad {
@@ -21,15 +22,18 @@ struct EnergyLedger {
 };
 
 struct ShotTiming {
-  double render_s = 0, accumulate_s = 0, total_s = 0;
+  double render_s = 0, accumulate_s = 0, texture_s = 0, total_s = 0;
 };
 
 // A finished (or stopped) solve, as reported to users.
 struct SolveStats {
   int shots = 0;
   std::size_t elements = 0;
-  double seconds_solve = 0;  // wall time, hemi-cube set-up included
+  double seconds_solve = 0;  // wall time, hemi-cube set-up included, texture work excluded
   double unshot_fraction = 0;
+  double seconds_texture = 0;  // building the perturbed map (gather pass or shooting)
+  std::size_t perturbed_elements = 0;
+  std::size_t directions = 0;  // sampled perturbed normals per vertex
 };
 
 // What a refinement step hands out: enough to render a preview.
@@ -44,6 +48,9 @@ class ProgressiveSolver {
  public:
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                     const SolverSettings& settings);
+
+  // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
+  void attach_map(PerturbedMap* map) { map_ = map; }
 
   // One shot from the patch with the most unshot power. False if nothing was left to shoot.
   bool shoot();
@@ -85,6 +92,7 @@ class ProgressiveSolver {
   double total_area_ = 0;
   int shots_ = 0;
   std::mt19937 rng_;
+  PerturbedMap* map_ = nullptr;
   ShotTiming last_shot_, total_;
 };
 

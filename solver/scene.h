@@ -8,6 +8,7 @@
 #include <variant>
 #include <vector>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 namespace bumprad {
@@ -81,12 +82,42 @@ struct TriangleMeshShape {
 };
 using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
 
+// A named bump (height) function; solver/bump.h evaluates it.
+enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder };
+
+// Heights are in scene units; the pattern is evaluated at uv * scale + offset, where uv is
+// the surface's own parameterisation in [0,1]^2.
+struct BumpFunction {
+  std::string name;
+  BumpType type = BumpType::Wrinkles;
+  double amplitude = 0.01;
+  glm::dvec2 scale{1, 1};
+  glm::dvec2 offset{0, 0};
+  int octaves = 4;           // noise
+  std::uint32_t seed = 1;    // noise
+  double direction_deg = 0;  // wrinkles: ridge normal, in the (u,v) plane
+  double mortar = 0.08;      // bricks, tiles: groove width, fraction of a cell
+  double radius = 0.35;      // dimples: fraction of a cell
+};
+
 struct Object {
   std::string name;
   Shape shape;
   int material = 0;           // index into Scene::materials
   bool flip_normals = false;  // e.g. a box seen from inside
   MeshDensity density;
+  int bump = -1;  // index into Scene::bumps, or -1 for a smooth surface
+};
+
+// Where the perturbed radiosity map comes from: none, a gather pass after the solve, or
+// shooting at every refinement step (so every preview shows bumps).
+enum class TextureMode { None, Gather, Shoot };
+
+// The sampled perturbed normals: N plus `azimuths` directions on each tilt ring.
+struct MapSettings {
+  std::vector<double> tilts_deg{22.5, 45};
+  int azimuths = 8;
+  bool self_illumination = false;  // paper section 3: bumps lit by the surface itself
 };
 
 struct SolverSettings {
@@ -98,12 +129,15 @@ struct SolverSettings {
   int preview_every = 10;         // shots per refinement step (callback, preview)
   bool rotate_hemicube = true;    // random rotation about N per shot against aliasing
   std::uint32_t seed = 1;
+  TextureMode texture = TextureMode::Shoot;
+  MapSettings map;
 };
 
 struct Scene {
   Camera camera;
   std::vector<Material> materials;
   std::vector<Object> objects;
+  std::vector<BumpFunction> bumps;
   SolverSettings solver;
 };
 

@@ -17,11 +17,16 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
   return sum;
 }
 
+std::array<double, 4> corner_weights(const Element& e, double u, double v) {
+  if (e.vertex_count == 3) return {1 - u - v, u, v, 0};
+  return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};
+}
+
 Rgb interpolate(const Element& e, std::span<const Rgb> values, double u, double v) {
-  if (e.vertex_count == 3)
-    return (1 - u - v) * values[e.v[0]] + u * values[e.v[1]] + v * values[e.v[2]];
-  return (1 - u) * (1 - v) * values[e.v[0]] + u * (1 - v) * values[e.v[1]] +
-         u * v * values[e.v[2]] + (1 - u) * v * values[e.v[3]];
+  auto w = corner_weights(e, u, v);
+  Rgb sum(0);
+  for (int k = 0; k < e.vertex_count; ++k) sum += w[std::size_t(k)] * values[e.v[std::size_t(k)]];
+  return sum;
 }
 
 }  // namespace bumprad

@@ -3,6 +3,7 @@
 // bilinearly inside quads and barycentrically inside triangles.
 #pragma once
 
+#include <array>
 #include <span>
 #include <vector>
 
@@ -12,8 +13,10 @@ namespace bumprad {
 
 std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity);
 
-// (u, v) as Embree reports a hit: quads p0 + u (p1 - p0) + v (p3 - p0) bilinearly,
-// triangles (1 - u - v) p0 + u p1 + v p2.
+// The weights of an element's corners at (u, v) as Embree reports a hit: quads
+// p0 + u (p1 - p0) + v (p3 - p0) bilinearly, triangles (1 - u - v) p0 + u p1 + v p2.
+std::array<double, 4> corner_weights(const Element& element, double u, double v);
+
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
 
 }  // namespace bumprad

@@ -6,13 +6,49 @@
 #include <thread>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
+#include "solver/bump.h"
 #include "solver/camera.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
 
+namespace {
+
+// Radiosity at a bumpy point: N' from the bump function in the frame of the interpolated
+// surface, then each corner's B + (B'(N') - B'(N)) from the map, interpolated.
+Rgb bumpy_radiosity(const Mesh& mesh, const Element& e, const std::array<double, 4>& w,
+                    const BumpFunction& bump, const PerturbedMap& map,
+                    std::span<const Rgb> vertex) {
+  glm::dvec2 uv(0);
+  Vec3 n(0), dpdu(0), dpdv(0);
+  for (int k = 0; k < e.vertex_count; ++k) {
+    const Vertex& v = mesh.vertices[e.v[std::size_t(k)]];
+    double wk = w[std::size_t(k)];
+    uv += wk * v.uv;
+    n += wk * v.normal;
+    dpdu += wk * v.dpdu;
+    dpdv += wk * v.dpdv;
+  }
+  n = glm::normalize(n);
+  BumpSample f = evaluate_bump(bump, uv);
+  Vec3 local = tangent_frame(n, dpdu).to_local(perturb_normal(n, dpdu, dpdv, f.du, f.dv));
+  Rgb b(0);
+  for (int k = 0; k < e.vertex_count; ++k) {
+    std::uint32_t vi = e.v[std::size_t(k)];
+    Rgb bk = vertex[vi];
+    if (std::int32_t slot = map.slot(vi); slot >= 0)
+      bk += map.lookup(std::uint32_t(slot), local) - map.samples(std::uint32_t(slot))[0];
+    b += w[std::size_t(k)] * bk;
+  }
+  return glm::max(b, Rgb(0));
+}
+
+}  // namespace
+
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity) {
+                  std::span<const Rgb> element_radiosity, const BumpTexture* texture) {
   const std::vector<Rgb> vertex = vertex_radiosity(mesh, element_radiosity);
   const PinholeCamera pinhole(camera);
   const int n = std::max(1, camera.antialias);
@@ -28,7 +64,14 @@ Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
             Ray ray = pinhole.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
             auto hit = rays.intersect(ray);
             if (!hit || !hit->front) continue;
-            sum += interpolate(mesh.elements[hit->element], vertex, hit->u, hit->v);
+            const Element& e = mesh.elements[hit->element];
+            int bump = texture && texture->map ? texture->object_bump[e.object] : -1;
+            if (bump < 0) {
+              sum += interpolate(e, vertex, hit->u, hit->v);
+              continue;
+            }
+            sum += bumpy_radiosity(mesh, e, corner_weights(e, hit->u, hit->v),
+                                   texture->bumps[std::size_t(bump)], *texture->map, vertex);
           }
         image.set(x, y, sum / (double(n * n) * std::numbers::pi));
       }

@@ -6,13 +6,24 @@
 
 #include "solver/image.h"
 #include "solver/mesh.h"
+#include "solver/perturbed_map.h"
 #include "solver/ray_scene.h"
 
 namespace bumprad {
 
+// Bump textures for the view pass (paper section 2.4): per object, a bump function or none,
+// and the perturbed radiosity map they are looked up in.
+struct BumpTexture {
+  const PerturbedMap* map = nullptr;
+  std::span<const BumpFunction> bumps;
+  std::vector<int> object_bump;  // per object: index into bumps, or -1
+};
+
 // `element_radiosity` is per element (e.g. a Snapshot's). Back faces and misses are black.
-// Rows are shared among the machine's cores.
+// With `texture`, a bumpy point shows its vertices' radiosity plus the map's change from N
+// to the perturbed N' (so a zero-amplitude bump renders exactly as no bump), interpolated
+// across the element. Rows are shared among the machine's cores.
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity);
+                  std::span<const Rgb> element_radiosity, const BumpTexture* texture = nullptr);
 
 }  // namespace bumprad
