@@ -15,10 +15,7 @@
 #include "protocol/solution_json.h"
 #include "solver/atomic_file.h"
 #include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/progressive.h"
-#include "solver/ray_scene.h"
-#include "solver/view_pass.h"
+#include "solver/solution.h"
 
 namespace bumprad {
 namespace {
@@ -99,13 +96,10 @@ int render_command(std::span<const std::string_view> args) {
       throw UsageError(flag + msg.substr(msg.find(':')));
     }
 
-    auto t0 = std::chrono::steady_clock::now();
-    Mesh mesh = build_mesh(scene);
-    ProgressiveSolver solver(mesh, scene.materials, scene.solver);
     // On a terminal the progress line rewrites itself every step; in a log, a line a second.
     const bool tty = ::isatty(STDERR_FILENO);
     auto last_line = std::chrono::steady_clock::now();
-    solver.run([&](const Snapshot& s) {
+    Solution solution = solve(scene, [&](const Snapshot& s, const PerturbedMap*) {
       if (!tty && !s.final && seconds_since(last_line) < 1) return true;
       last_line = std::chrono::steady_clock::now();
       std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
@@ -113,22 +107,27 @@ int render_command(std::span<const std::string_view> args) {
       return true;
     });
     if (tty) std::fputc('\n', stderr);
-    SolveStats stats{solver.shots(), mesh.elements.size(), seconds_since(t0),
-                     solver.unshot_fraction()};
+    const SolveStats& stats = solution.stats;
 
     auto t1 = std::chrono::steady_clock::now();
-    RayScene rays(mesh);
-    Image image = render_view(mesh, rays, scene.camera, solver.display_radiosity());
+    Image image = render(scene, solution);
     write_image(a.output, image, scene.camera.exposure);
     double seconds_view = seconds_since(t1);
 
     if (!a.solution.empty())
-      write_file_atomically(a.solution, solution_to_json(scene, mesh, solver.radiosity(), stats));
+      write_file_atomically(a.solution,
+                            solution_to_json(scene, *solution.mesh, solution.radiosity, stats));
     std::printf(
         "wrote %s (%dx%d): %d shots, %zu elements, %zu patches, unshot %.2f%%, solve %.2f s, "
         "view %.2f s\n",
         a.output.c_str(), image.width, image.height, stats.shots, stats.elements,
-        mesh.patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve, seconds_view);
+        solution.mesh->patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve,
+        seconds_view);
+    if (solution.map)
+      std::printf("perturbed map: %zu elements, %zu directions, %s, %.3f s\n",
+                  stats.perturbed_elements, stats.directions,
+                  scene.solver.texture == TextureMode::Gather ? "gathered" : "shot",
+                  stats.seconds_texture);
     if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
     return 0;
   } catch (const UsageError& e) {

@@ -194,6 +194,54 @@ Material parse_material(const Node& n, const std::string& name) {
   return m;
 }
 
+BumpFunction parse_bump(const Node& n, const std::string& name) {
+  static const std::map<std::string, BumpType> kTypes = {
+      {"noise", BumpType::Noise},     {"wrinkles", BumpType::Wrinkles},
+      {"bricks", BumpType::Bricks},   {"tiles", BumpType::Tiles},
+      {"dimples", BumpType::Dimples}, {"cylinder", BumpType::Cylinder}};
+  std::string type = n["type"].string();
+  auto it = kTypes.find(type);
+  if (it == kTypes.end())
+    n["type"].fail("unknown bump type \"" + type +
+                   "\" (expected noise, wrinkles, bricks, tiles, dimples or cylinder)");
+  BumpFunction b;
+  b.name = name;
+  b.type = it->second;
+  std::vector<std::string_view> keys = {"type", "amplitude", "scale", "offset"};
+  if (b.type == BumpType::Noise) keys.insert(keys.end(), {"octaves", "seed"});
+  if (b.type == BumpType::Wrinkles) keys.push_back("direction_deg");
+  if (b.type == BumpType::Bricks || b.type == BumpType::Tiles) keys.push_back("mortar");
+  if (b.type == BumpType::Dimples) keys.push_back("radius");
+  n.allow_only(keys, type + " bump");
+  if (auto v = n.get("amplitude")) b.amplitude = v->in_range(0, kHuge, false);
+  if (auto v = n.get("scale")) {
+    if (v->value().is_number()) {
+      b.scale = glm::dvec2(v->positive());
+    } else {
+      v->array(2, 2);
+      b.scale = {(*v)[0].positive(), (*v)[1].positive()};
+    }
+  }
+  if (auto v = n.get("offset")) {
+    v->array(2, 2);
+    b.offset = {(*v)[0].number(), (*v)[1].number()};
+  }
+  if (auto v = n.get("octaves")) b.octaves = int(v->integer(1, 12));
+  if (auto v = n.get("seed")) b.seed = std::uint32_t(v->integer(0, 0xffffffffLL));
+  if (auto v = n.get("direction_deg")) b.direction_deg = v->number();
+  if (auto v = n.get("mortar")) {
+    b.mortar = v->number();
+    if (!(b.mortar > 0 && b.mortar < 1))
+      v->fail("must be between 0 and 1, exclusive (got " + describe(b.mortar) + ")");
+  }
+  if (auto v = n.get("radius")) {
+    b.radius = v->number();
+    if (!(b.radius > 0 && b.radius <= 0.5))
+      v->fail("must be in (0, 0.5] (got " + describe(b.radius) + ")");
+  }
+  return b;
+}
+
 MeshDensity parse_density(const Node& n) {
   n.allow_only({"element_size", "elements", "patch_elements"});
   MeshDensity d;
@@ -265,10 +313,12 @@ TriangleMeshShape parse_triangle_mesh(const Node& n) {
 }
 
 Object parse_object(const Node& n, std::size_t index,
-                    const std::map<std::string, int>& material_ids) {
+                    const std::map<std::string, int>& material_ids,
+                    const std::map<std::string, int>& bump_ids) {
   std::string type = n["type"].string();
   auto allow = [&](std::initializer_list<std::string_view> own) {
-    std::vector<std::string_view> keys = {"type", "name", "material", "flip_normals", "mesh"};
+    std::vector<std::string_view> keys = {"type",         "name", "material",
+                                          "flip_normals", "mesh", "bump"};
     keys.insert(keys.end(), own);
     n.allow_only(keys, type);
   };
@@ -280,6 +330,12 @@ Object parse_object(const Node& n, std::size_t index,
   o.material = it->second;
   if (auto v = n.get("flip_normals")) o.flip_normals = v->boolean();
   if (auto v = n.get("mesh")) o.density = parse_density(*v);
+  if (auto v = n.get("bump")) {
+    std::string bump = v->string();
+    auto b = bump_ids.find(bump);
+    if (b == bump_ids.end()) v->fail("unknown bump function \"" + bump + "\"");
+    o.bump = b->second;
+  }
 
   if (type == "quad") {
     allow({"vertices"});
@@ -323,7 +379,7 @@ Object parse_object(const Node& n, std::size_t index,
 void apply_solver_settings(const json& settings, SolverSettings& s, const std::string& pointer) {
   Node n(settings, pointer);
   n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
-                "patch_elements", "preview_every", "rotate_hemicube", "seed"});
+                "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map"});
   if (auto v = n.get("hemicube_resolution")) {
     s.hemicube_resolution = int(v->integer(Limits::kMinHemicube, Limits::kMaxHemicube));
     if (s.hemicube_resolution % 2)
@@ -337,11 +393,37 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   if (auto v = n.get("preview_every")) s.preview_every = int(v->integer(1, Limits::kMaxShots));
   if (auto v = n.get("rotate_hemicube")) s.rotate_hemicube = v->boolean();
   if (auto v = n.get("seed")) s.seed = std::uint32_t(v->integer(0, 0xffffffffLL));
+  if (auto v = n.get("texture")) {
+    std::string t = v->string();
+    if (t == "none")
+      s.texture = TextureMode::None;
+    else if (t == "gather")
+      s.texture = TextureMode::Gather;
+    else if (t == "shoot")
+      s.texture = TextureMode::Shoot;
+    else
+      v->fail("unknown texture mode \"" + t + "\" (expected none, gather or shoot)");
+  }
+  if (auto v = n.get("map")) {
+    v->allow_only({"tilts_deg", "azimuths", "self_illumination"});
+    if (auto t = v->get("tilts_deg")) {
+      std::size_t count = t->array(1, 8);
+      s.map.tilts_deg.clear();
+      for (std::size_t i = 0; i < count; ++i) {
+        double tilt = (*t)[i].number();
+        if (!(tilt > 0 && tilt < 90)) (*t)[i].fail("must be between 0 and 90 degrees, exclusive");
+        if (i > 0 && !(tilt > s.map.tilts_deg.back())) (*t)[i].fail("tilts must increase");
+        s.map.tilts_deg.push_back(tilt);
+      }
+    }
+    if (auto a = v->get("azimuths")) s.map.azimuths = int(a->integer(3, 64));
+    if (auto i = v->get("self_illumination")) s.map.self_illumination = i->boolean();
+  }
 }
 
 Scene parse_scene(const json& document) {
   Node root(document, "");
-  root.allow_only({"version", "description", "camera", "materials", "objects", "solver"});
+  root.allow_only({"version", "description", "camera", "materials", "bumps", "objects", "solver"});
   if (auto v = root.get("version"); v && v->integer(1, 1) != 1) v->fail("unsupported version");
   if (auto v = root.get("description")) v->string();
 
@@ -356,10 +438,18 @@ Scene parse_scene(const json& document) {
     scene.materials.push_back(parse_material(m, it.key()));
   }
 
+  std::map<std::string, int> bump_ids;
+  if (auto bumps = root.get("bumps"))
+    for (auto it = bumps->object().begin(); it != bumps->value().end(); ++it) {
+      Node b(*it, bumps->pointer() + "/" + escape_token(it.key()));
+      bump_ids[it.key()] = int(scene.bumps.size());
+      scene.bumps.push_back(parse_bump(b, it.key()));
+    }
+
   Node objects = root["objects"];
   std::size_t n = objects.array(1, std::size_t(Limits::kMaxElements));
   for (std::size_t i = 0; i < n; ++i)
-    scene.objects.push_back(parse_object(objects[i], i, material_ids));
+    scene.objects.push_back(parse_object(objects[i], i, material_ids, bump_ids));
 
   if (auto v = root.get("solver")) apply_solver_settings(v->value(), scene.solver, v->pointer());
 

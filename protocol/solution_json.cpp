@@ -19,7 +19,10 @@ std::string solution_to_json(const Scene& scene, const Mesh& mesh, std::span<con
                          {{"shots", stats.shots},
                           {"elements", stats.elements},
                           {"seconds_solve", stats.seconds_solve},
-                          {"unshot_fraction", stats.unshot_fraction}}}};
+                          {"unshot_fraction", stats.unshot_fraction},
+                          {"seconds_texture", stats.seconds_texture},
+                          {"perturbed_elements", stats.perturbed_elements},
+                          {"directions", stats.directions}}}};
   return doc.dump() + "\n";
 }
 

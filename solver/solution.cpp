@@ -1,0 +1,81 @@
+#include "solver/solution.h"
+
+#include <chrono>
+
+#include "solver/view_pass.h"
+
+namespace bumprad {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+Solution solve(const Scene& scene, const StepCallback& on_step) {
+  auto t0 = std::chrono::steady_clock::now();
+  Solution out;
+  out.mesh = std::make_unique<Mesh>(build_mesh(scene));
+  const Mesh& mesh = *out.mesh;
+
+  std::vector<bool> bumpy(scene.objects.size(), false);
+  bool any = false;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    any |= bumpy[i] = scene.objects[i].bump >= 0;
+  const TextureMode mode = any ? scene.solver.texture : TextureMode::None;
+  if (mode != TextureMode::None)
+    out.map = std::make_unique<PerturbedMap>(mesh, bumpy, scene.solver.map);
+
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+  double texture_s = 0;
+  if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
+  solver.run([&](const Snapshot& s) {
+    if (!on_step) return true;
+    if (mode == TextureMode::Shoot) {
+      auto t = std::chrono::steady_clock::now();
+      out.map->finish_shooting(scene.materials);
+      texture_s += seconds_since(t);
+    }
+    return on_step(s, mode == TextureMode::Shoot ? out.map.get() : nullptr);
+  });
+  out.radiosity = solver.radiosity();
+  out.display = solver.display_radiosity();
+
+  auto t1 = std::chrono::steady_clock::now();
+  if (mode == TextureMode::Shoot) {
+    out.map->finish_shooting(scene.materials);
+  } else if (mode == TextureMode::Gather) {
+    Hemicube hemicube(mesh, scene.solver.hemicube_resolution);
+    out.map->gather(scene.materials, out.display, hemicube);
+  }
+  texture_s += seconds_since(t1) + solver.total_time().texture_s;
+
+  out.stats.shots = solver.shots();
+  out.stats.elements = mesh.elements.size();
+  out.stats.unshot_fraction = solver.unshot_fraction();
+  out.stats.seconds_texture = texture_s;
+  out.stats.seconds_solve = seconds_since(t0) - texture_s;
+  if (out.map) {
+    for (std::size_t i = 0; i < mesh.elements.size(); ++i)
+      out.stats.perturbed_elements += bumpy[mesh.elements[i].object];
+    out.stats.directions = out.map->directions().size();
+  }
+  out.rays = std::make_unique<RayScene>(mesh);
+  return out;
+}
+
+Image render(const Scene& scene, const Solution& solution) {
+  return render(scene, solution, solution.display);
+}
+
+Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity) {
+  BumpTexture texture;
+  texture.map = solution.map.get();
+  texture.bumps = scene.bumps;
+  for (const Object& o : scene.objects) texture.object_bump.push_back(o.bump);
+  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity,
+                     solution.map ? &texture : nullptr);
+}
+
+}  // namespace bumprad

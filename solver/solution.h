@@ -1,0 +1,39 @@
+// A solved scene: mesh, radiosity and perturbed radiosity map, built in the scene's texture
+// mode. Rendering takes a Scene too, so a new bump function or camera re-renders a solution
+// without solving again (re-texturing, paper section 2.4).
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "solver/image.h"
+#include "solver/mesh.h"
+#include "solver/perturbed_map.h"
+#include "solver/progressive.h"
+#include "solver/ray_scene.h"
+
+namespace bumprad {
+
+struct Solution {
+  std::unique_ptr<Mesh> mesh;
+  std::vector<Rgb> radiosity;         // solved B per element
+  std::vector<Rgb> display;           // B plus the ambient term, what images show
+  std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
+  std::unique_ptr<RayScene> rays;
+  SolveStats stats;
+};
+
+// Called after every refinement step with the snapshot and, when shooting, the map as it
+// stands; returning false stops the solve (the solution is then what was reached).
+using StepCallback = std::function<bool(const Snapshot&, const PerturbedMap*)>;
+
+Solution solve(const Scene& scene, const StepCallback& on_step = {});
+
+// The view pass for `scene`'s camera and bump functions over a solution of the same
+// geometry. Objects without a bump function, or a solution without a map, render smooth.
+Image render(const Scene& scene, const Solution& solution);
+// The same for one refinement step's radiosity (previews).
+Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity);
+
+}  // namespace bumprad

@@ -1,0 +1,87 @@
+// Whole solves through the library call: re-texturing a solution with another bump
+// function gives the pixels of a fresh solve with that function, and a flat bump gives the
+// plain render.
+#include "solver/solution.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/test_scenes.h"
+
+namespace bumprad {
+namespace {
+
+// A lamp above a floor, with a sphere (curved) and a tilted box that may carry bumps.
+Scene bumpy_scene(TextureMode mode) {
+  auto lamp = test::rectangle_facing_down(0.6, 0.6, 2.5);
+  auto f = test::rectangle_facing_down(4, 4, 0);
+  Scene s =
+      test::scene_of({test::quad(lamp, 2, 2, 1), test::quad({f[3], f[2], f[1], f[0]}, 8, 8)}, 0.6);
+  Material light;
+  light.reflectance = Rgb(0);
+  light.emission = Rgb(30);
+  s.materials.push_back(light);
+  Object sphere;
+  sphere.shape = SphereShape{Vec3(-0.6, 0, 0.5), 0.5};
+  sphere.density.counts = {24, 12};
+  sphere.bump = 0;
+  Object box;
+  box.shape = BoxShape{Vec3(0.7, 0.2, 0.4), Vec3(0.6, 0.6, 0.8), Vec3(0, 0, 25)};
+  box.density.counts = {6, 6};
+  box.bump = 1;
+  s.objects.push_back(sphere);
+  s.objects.push_back(box);
+  BumpFunction a, b;
+  a.type = BumpType::Wrinkles;
+  a.amplitude = 0.02;
+  a.scale = {8, 8};
+  b.type = BumpType::Dimples;
+  b.amplitude = 0.03;
+  b.scale = {5, 5};
+  s.bumps = {a, b};
+  s.camera.position = Vec3(0, -4, 2.5);
+  s.camera.look_at = Vec3(0, 0, 0.4);
+  s.camera.up = Vec3(0, 0, 1);
+  s.camera.width = 96;
+  s.camera.height = 64;
+  s.solver.max_shots = 60;
+  s.solver.texture = mode;
+  return s;
+}
+
+double max_difference(const Image& a, const Image& b) {
+  double d = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i)
+    d = std::max(d, double(std::abs(a.rgb[i] - b.rgb[i])));
+  return d;
+}
+
+TEST(Solution, RetexturingEqualsAFreshSolveWithTheNewBumps) {
+  for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
+    Scene with_a = bumpy_scene(mode);
+    Scene with_b = with_a;
+    std::swap(with_b.bumps[0], with_b.bumps[1]);
+    with_b.bumps[1].amplitude = 0.05;
+    Solution solved_a = solve(with_a);
+    Image retextured = render(with_b, solved_a);
+    Image fresh = render(with_b, solve(with_b));
+    EXPECT_EQ(retextured.rgb, fresh.rgb) << "mode " << int(mode);
+    EXPECT_GT(max_difference(retextured, render(with_a, solved_a)), 0.01) << "bumps show";
+  }
+}
+
+TEST(Solution, FlatBumpsRenderAsNoBumps) {
+  for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
+    Scene flat = bumpy_scene(mode);
+    for (BumpFunction& b : flat.bumps) b.amplitude = 0;
+    Scene plain = flat;
+    plain.solver.texture = TextureMode::None;
+    Solution s = solve(flat);
+    ASSERT_TRUE(s.map);
+    EXPECT_EQ(s.stats.directions, 17u);
+    EXPECT_GT(s.stats.perturbed_elements, 0u);
+    EXPECT_EQ(render(flat, s).rgb, render(plain, solve(plain)).rgb) << "mode " << int(mode);
+  }
+}
+
+}  // namespace
+}  // namespace bumprad
