@@ -14,7 +14,7 @@ constexpr const char* kHelp =
     "bumprad: progressive radiosity with bump textures (Chen & Wu 1990)\n"
     "usage:\n"
     "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
-    "                 [--export-solution S.json]\n"
+    "                 [--export-solution S.json] [--bump B.json]\n"
     "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
     "  bumprad --help\n";
 

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -22,7 +23,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
-    "                      [--export-solution S.json]\n"
+    "                      [--export-solution S.json] [--bump B.json]\n"
     "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
 
 struct UsageError : std::runtime_error {
@@ -30,7 +31,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct RenderArgs {
-  std::string scene, output, solution;
+  std::string scene, output, solution, bump;
   nlohmann::json overrides = nlohmann::json::object();  // solver settings from flags
 };
 
@@ -60,6 +61,8 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
       r.overrides["hemicube_resolution"] = integer(i);
     else if (a == "--export-solution")
       r.solution = value(i);
+    else if (a == "--bump")
+      r.bump = value(i);
     else if (a.starts_with("-"))
       throw UsageError("unknown option " + std::string(a));
     else if (r.scene.empty())
@@ -94,6 +97,17 @@ int render_command(std::span<const std::string_view> args) {
       std::string flag = e.pointer() == "/max_shots" ? "--shots" : "--hemicube";
       std::string msg = e.what();
       throw UsageError(flag + msg.substr(msg.find(':')));
+    }
+    if (!a.bump.empty()) {
+      std::ifstream in(a.bump, std::ios::binary);
+      if (!in) throw std::runtime_error(a.bump + ": cannot open the bump file");
+      try {
+        apply_bump_overrides(nlohmann::json::parse(in), scene);
+      } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(a.bump + ": malformed JSON: " + e.what());
+      } catch (const SceneError& e) {
+        throw std::runtime_error(a.bump + ": " + e.what());
+      }
     }
 
     // On a terminal the progress line rewrites itself every step; in a log, a line a second.

@@ -421,6 +421,22 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   }
 }
 
+void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& pointer) {
+  Node n(bumps, pointer);
+  for (auto it = n.object().begin(); it != bumps.end(); ++it) {
+    Node b(*it, pointer + "/" + escape_token(it.key()));
+    auto known = std::find_if(scene.bumps.begin(), scene.bumps.end(),
+                              [&](const BumpFunction& f) { return f.name == it.key(); });
+    if (known == scene.bumps.end()) {
+      std::string names;
+      for (const BumpFunction& f : scene.bumps) names += (names.empty() ? "" : ", ") + f.name;
+      b.fail("the scene has no bump function of this name (it has: " +
+             (names.empty() ? std::string("none") : names) + ")");
+    }
+    *known = parse_bump(b, it.key());
+  }
+}
+
 Scene parse_scene(const json& document) {
   Node root(document, "");
   root.allow_only({"version", "description", "camera", "materials", "bumps", "objects", "solver"});

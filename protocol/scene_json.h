@@ -33,4 +33,10 @@ Scene parse_scene(const nlohmann::json& document);
 void apply_solver_settings(const nlohmann::json& settings, SolverSettings& out,
                            const std::string& pointer = "/solver");
 
+// Replaces the scene's bump functions by name with those in `bumps` (the same JSON as a
+// scene's "bumps" block), e.g. to re-texture with `--bump FILE.json`. Names the scene does
+// not have are refused; `pointer` prefixes error locations.
+void apply_bump_overrides(const nlohmann::json& bumps, Scene& scene,
+                          const std::string& pointer = "");
+
 }  // namespace bumprad

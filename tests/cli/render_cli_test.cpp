@@ -122,6 +122,27 @@ TEST_F(RenderCli, UsageErrors) {
   EXPECT_EQ(r.exit_code, 2);
 }
 
+TEST_F(RenderCli, BumpFileReplacesTheScenesBumpFunctions) {
+  std::ofstream(path("cyl.json")) << R"({"wrinkles": {"type": "cylinder", "amplitude": 0.05}})";
+  Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 --bump " + path("cyl.json") +
+                  " -o " + path("cyl.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("perturbed map: 216 elements, 17 directions, shot"), std::string::npos)
+      << r.output;
+  std::ofstream(path("bad.json")) << R"({"wrinkles": {"type": "cylinder", "amplitude": -1}})";
+  r = run("render builtin:wrinkled-box --bump " + path("bad.json") + " -o " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.output, "bumprad: error: " + path("bad.json") +
+                          ": /wrinkles/amplitude: must be in [0, 1e+300] (got -1)\n");
+  std::ofstream(path("other.json")) << R"({"ripples": {"type": "noise"}})";
+  r = run("render builtin:wrinkled-box --bump " + path("other.json") + " -o " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("/ripples: the scene has no bump function of this name (it has: "
+                          "wrinkles)"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST_F(RenderCli, ListsBuiltinScenes) {
   Process r = run("scenes");
   EXPECT_EQ(r.exit_code, 0);
