@@ -209,7 +209,7 @@ BumpFunction parse_bump(const Node& n, const std::string& name) {
   b.type = it->second;
   std::vector<std::string_view> keys = {"type", "amplitude", "scale", "offset"};
   if (b.type == BumpType::Noise) keys.insert(keys.end(), {"octaves", "seed"});
-  if (b.type == BumpType::Wrinkles) keys.push_back("direction_deg");
+  if (b.type == BumpType::Wrinkles || b.type == BumpType::Cylinder) keys.push_back("direction_deg");
   if (b.type == BumpType::Bricks || b.type == BumpType::Tiles) keys.push_back("mortar");
   if (b.type == BumpType::Dimples) keys.push_back("radius");
   n.allow_only(keys, type + " bump");

@@ -40,6 +40,15 @@ double gradient_noise(glm::dvec2 p, std::uint32_t seed) {
   return (1 - v) * ((1 - u) * n00 + u * n10) + v * ((1 - u) * n01 + u * n11);
 }
 
+// Wrinkles and cylinders vary along one direction of the (u,v) plane only.
+glm::dvec2 across_axis(const BumpFunction& b) {
+  double a = b.direction_deg * std::numbers::pi / 180;
+  return {std::cos(a), std::sin(a)};
+}
+double across(const BumpFunction& b, glm::dvec2 p) {
+  return glm::dot(p, across_axis(b));
+}
+
 // The pattern's height at pattern-space point p (before amplitude).
 double pattern(const BumpFunction& b, glm::dvec2 p) {
   switch (b.type) {
@@ -49,10 +58,8 @@ double pattern(const BumpFunction& b, glm::dvec2 p) {
         h += a * gradient_noise(p, b.seed + std::uint32_t(o));
       return h;
     }
-    case BumpType::Wrinkles: {
-      double a = b.direction_deg * std::numbers::pi / 180;
-      return std::sin(kTwoPi * (p.x * std::cos(a) + p.y * std::sin(a)));
-    }
+    case BumpType::Wrinkles:
+      return std::sin(kTwoPi * across(b, p));
     case BumpType::Bricks: {
       // Running bond: bricks twice as long as high, every other row shifted by half.
       double row = std::floor(p.y);
@@ -74,8 +81,8 @@ double pattern(const BumpFunction& b, glm::dvec2 p) {
       return d2 < 1 ? -(1 - d2) * (1 - d2) : 0.0;
     }
     case BumpType::Cylinder: {
-      // Fig. 4f of the paper: each unit strip across u bulges like half a cylinder.
-      double t = 2 * fract(p.x) - 1;
+      // Fig. 4f of the paper: each unit strip bulges like half a cylinder.
+      double t = 2 * fract(across(b, p)) - 1;
       return std::sqrt(std::max(0.0, 1 - t * t));
     }
   }
@@ -88,16 +95,19 @@ BumpSample evaluate_bump(const BumpFunction& b, glm::dvec2 uv) {
   glm::dvec2 p = uv * b.scale + b.offset;
   double h = pattern(b, p);
   double du, dv;
-  if (b.type == BumpType::Wrinkles) {
-    double a = b.direction_deg * std::numbers::pi / 180;
-    double c = kTwoPi * std::cos(kTwoPi * (p.x * std::cos(a) + p.y * std::sin(a)));
-    du = c * std::cos(a) * b.scale.x;
-    dv = c * std::sin(a) * b.scale.y;
-  } else if (b.type == BumpType::Cylinder) {
-    // dh/dt = -t / sqrt(1 - t^2), limited near the rim where the slope grows without bound.
-    double t = 2 * fract(p.x) - 1;
-    du = -t / std::sqrt(std::max(1e-4, 1 - t * t)) * 2 * b.scale.x;
-    dv = 0;
+  if (b.type == BumpType::Wrinkles || b.type == BumpType::Cylinder) {
+    // Analytic along the varying direction. The cylinder's dh/dt = -t / sqrt(1 - t^2) is
+    // limited near the rim, where the slope grows without bound.
+    double slope;
+    if (b.type == BumpType::Wrinkles) {
+      slope = kTwoPi * std::cos(kTwoPi * across(b, p));
+    } else {
+      double t = 2 * fract(across(b, p)) - 1;
+      slope = -2 * t / std::sqrt(std::max(1e-4, 1 - t * t));
+    }
+    glm::dvec2 axis = across_axis(b);
+    du = slope * axis.x * b.scale.x;
+    dv = slope * axis.y * b.scale.y;
   } else {
     // Central differences, one thousandth of a pattern cell.
     const double e = 1e-3;

@@ -124,8 +124,8 @@ TEST_F(RenderCli, UsageErrors) {
 
 TEST_F(RenderCli, BumpFileReplacesTheScenesBumpFunctions) {
   std::ofstream(path("cyl.json")) << R"({"wrinkles": {"type": "cylinder", "amplitude": 0.05}})";
-  Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 --bump " + path("cyl.json") +
-                  " -o " + path("cyl.png"));
+  Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 --bump " +
+                  path("cyl.json") + " -o " + path("cyl.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("perturbed map: 216 elements, 17 directions, shot"), std::string::npos)
       << r.output;

@@ -229,6 +229,52 @@ TEST(SceneJson, CameraGeometry) {
   expect_rejected(d, "/camera/fov_deg", "between 0 and 180");
 }
 
+TEST(SceneJson, BumpFunctions) {
+  json d = minimal();
+  d["bumps"] = {{"w", {{"type", "wrinkles"}, {"amplitude", 0.01}, {"scale", {4, 8}}}}};
+  d["objects"][0]["bump"] = "w";
+  Scene s = parse_scene(d);
+  ASSERT_EQ(s.bumps.size(), 1u);
+  EXPECT_EQ(s.objects[0].bump, 0);
+  EXPECT_EQ(s.objects[1].bump, -1);
+  EXPECT_EQ(s.bumps[0].scale, glm::dvec2(4, 8));
+  EXPECT_EQ(s.solver.texture, TextureMode::Shoot);
+
+  d["objects"][1]["bump"] = "v";
+  expect_rejected(d, "/objects/1/bump", "unknown bump function \"v\"");
+  d = minimal();
+  d["bumps"] = {{"w", {{"type", "ripples"}}}};
+  expect_rejected(d, "/bumps/w/type", "unknown bump type \"ripples\"");
+  d["bumps"] = {{"w", {{"type", "noise"}, {"mortar", 0.1}}}};
+  expect_rejected(d, "/bumps/w/mortar", "unknown key for a noise bump");
+  d["bumps"] = {{"w", {{"type", "bricks"}, {"mortar", 1.5}}}};
+  expect_rejected(d, "/bumps/w/mortar", "between 0 and 1");
+  d["bumps"] = {{"w", {{"type", "dimples"}, {"scale", 0}}}};
+  expect_rejected(d, "/bumps/w/scale", "must be greater than 0");
+  d["bumps"] = {{"w", {{"amplitude", 1}}}};
+  expect_rejected(d, "/bumps/w/type", "is required");
+}
+
+TEST(SceneJson, TextureModeAndMapSettings) {
+  json d = minimal();
+  d["solver"] = {
+      {"texture", "gather"},
+      {"map", {{"tilts_deg", {15, 30, 60}}, {"azimuths", 12}, {"self_illumination", true}}}};
+  Scene s = parse_scene(d);
+  EXPECT_EQ(s.solver.texture, TextureMode::Gather);
+  EXPECT_EQ(s.solver.map.tilts_deg, (std::vector<double>{15, 30, 60}));
+  EXPECT_EQ(s.solver.map.azimuths, 12);
+  EXPECT_TRUE(s.solver.map.self_illumination);
+  d["solver"] = {{"texture", "bake"}};
+  expect_rejected(d, "/solver/texture", "unknown texture mode \"bake\"");
+  d["solver"] = {{"map", {{"tilts_deg", {30, 20}}}}};
+  expect_rejected(d, "/solver/map/tilts_deg/1", "tilts must increase");
+  d["solver"] = {{"map", {{"tilts_deg", {90}}}}};
+  expect_rejected(d, "/solver/map/tilts_deg/0", "between 0 and 90");
+  d["solver"] = {{"map", {{"azimuths", 2}}}};
+  expect_rejected(d, "/solver/map/azimuths", "must be between 3 and 64");
+}
+
 TEST(SceneJson, SolverOverridesUseTheSameChecks) {
   SolverSettings s;
   apply_solver_settings(json{{"max_shots", 7}, {"seed", 3}}, s);

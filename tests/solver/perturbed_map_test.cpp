@@ -97,6 +97,27 @@ TEST(PerturbedMap, GatherMatchesLambertAtEverySampledTilt) {
   EXPECT_LT(worst, 1e-3);  // measured 3.3e-4 at hemi-cube 150
 }
 
+TEST(PerturbedMap, SelfIlluminationAddsTheSurfaceBelowTheTiltedPlane) {
+  // A normal tilted by theta sees the surface itself over a cosine-weighted fraction
+  // (1 - cos theta) / 2 of its hemisphere (the view factor to the ground plane).
+  LightAndReceiver g(1);
+  MapSettings with, without;
+  with.self_illumination = true;
+  with.tilts_deg = without.tilts_deg = {20, 40, 60};
+  PerturbedMap on(g.mesh, {true, false}, with), off(g.mesh, {true, false}, without);
+  std::vector<Rgb> radiosity(g.mesh.elements.size(), Rgb(0));
+  radiosity.front() = Rgb(0.4);  // the receiver's own radiosity
+  radiosity.back() = Rgb(1);
+  Hemicube hemicube(g.mesh, 150);
+  on.gather(g.scene.materials, radiosity, hemicube);
+  off.gather(g.scene.materials, radiosity, hemicube);
+  for (std::size_t s = 0; s < on.directions().size(); ++s) {
+    double cos_tilt = on.directions().direction(s).z;
+    EXPECT_NEAR(on.samples(0)[s].g - off.samples(0)[s].g, kRho * 0.4 * (1 - cos_tilt) / 2, 5e-4)
+        << s;
+  }
+}
+
 TEST(PerturbedMap, ShootMatchesLambertAtEverySampledTilt) {
   // The receiver spans ~100 hemi-cube pixels from each light patch; smaller ones alias.
   LightAndReceiver g(16, 0.1);
