@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cli/render_command.h"
+#include "cli/retexture_command.h"
 #include "protocol/builtin_scenes.h"
 
 namespace {
@@ -14,7 +15,8 @@ constexpr const char* kHelp =
     "bumprad: progressive radiosity with bump textures (Chen & Wu 1990)\n"
     "usage:\n"
     "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
-    "                 [--export-solution S.json] [--bump B.json]\n"
+    "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
+    "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
     "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
     "  bumprad --help\n";
 
@@ -29,6 +31,7 @@ int main(int argc, char** argv) {
   std::string_view command = args.front();
   std::span<const std::string_view> rest(args.data() + 1, args.size() - 1);
   if (command == "render") return bumprad::render_command(rest);
+  if (command == "retexture") return bumprad::retexture_command(rest);
   if (command == "scenes") {
     for (const auto& s : bumprad::builtin_scenes()) std::cout << s.name << "\n";
     return 0;

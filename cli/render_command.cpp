@@ -13,6 +13,7 @@
 
 #include "protocol/scene_json.h"
 #include "protocol/scene_source.h"
+#include "protocol/solution_file.h"
 #include "protocol/solution_json.h"
 #include "solver/atomic_file.h"
 #include "solver/image.h"
@@ -23,7 +24,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
-    "                      [--export-solution S.json] [--bump B.json]\n"
+    "                      [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
 
 struct UsageError : std::runtime_error {
@@ -31,7 +32,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct RenderArgs {
-  std::string scene, output, solution, bump;
+  std::string scene, output, solution, bump, save_map;
   nlohmann::json overrides = nlohmann::json::object();  // solver settings from flags
 };
 
@@ -63,6 +64,8 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
       r.solution = value(i);
     else if (a == "--bump")
       r.bump = value(i);
+    else if (a == "--save-map")
+      r.save_map = value(i);
     else if (a.starts_with("-"))
       throw UsageError("unknown option " + std::string(a));
     else if (r.scene.empty())
@@ -90,7 +93,8 @@ int render_command(std::span<const std::string_view> args) {
     return 2;
   }
   try {
-    Scene scene = load_scene(a.scene);
+    std::string scene_json;
+    Scene scene = load_scene(a.scene, &scene_json);
     try {
       apply_solver_settings(a.overrides, scene.solver, "");
     } catch (const SceneError& e) {
@@ -98,17 +102,7 @@ int render_command(std::span<const std::string_view> args) {
       std::string msg = e.what();
       throw UsageError(flag + msg.substr(msg.find(':')));
     }
-    if (!a.bump.empty()) {
-      std::ifstream in(a.bump, std::ios::binary);
-      if (!in) throw std::runtime_error(a.bump + ": cannot open the bump file");
-      try {
-        apply_bump_overrides(nlohmann::json::parse(in), scene);
-      } catch (const nlohmann::json::exception& e) {
-        throw std::runtime_error(a.bump + ": malformed JSON: " + e.what());
-      } catch (const SceneError& e) {
-        throw std::runtime_error(a.bump + ": " + e.what());
-      }
-    }
+    if (!a.bump.empty()) apply_bump_file(a.bump, scene);
 
     // On a terminal the progress line rewrites itself every step; in a log, a line a second.
     const bool tty = ::isatty(STDERR_FILENO);
@@ -143,6 +137,10 @@ int render_command(std::span<const std::string_view> args) {
                   scene.solver.texture == TextureMode::Gather ? "gathered" : "shot",
                   stats.seconds_texture);
     if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
+    if (!a.save_map.empty()) {
+      save_solution(a.save_map, scene_json, solution);
+      std::printf("wrote %s (re-texture it with `bumprad retexture`)\n", a.save_map.c_str());
+    }
     return 0;
   } catch (const UsageError& e) {
     std::cerr << "bumprad render: " << e.what() << "\n";

@@ -7,7 +7,15 @@
 
 namespace bumprad {
 
-// Throws std::runtime_error (unknown built-in, unreadable file) or SceneError (invalid).
-Scene load_scene(const std::string& source);
+// The JSON text of a scene source. Throws std::runtime_error (unknown built-in, unreadable).
+std::string load_scene_text(const std::string& source);
+
+// Throws std::runtime_error (unknown built-in, unreadable or invalid file). With `text`,
+// also hands back the JSON it parsed (what a saved solution keeps).
+Scene load_scene(const std::string& source, std::string* text = nullptr);
+
+// Applies a bump file (the JSON of a scene's "bumps" block) to `scene`, replacing bump
+// functions by name. Throws std::runtime_error naming the file and the field.
+void apply_bump_file(const std::string& path, Scene& scene);
 
 }  // namespace bumprad

@@ -56,13 +56,29 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   out.stats.unshot_fraction = solver.unshot_fraction();
   out.stats.seconds_texture = texture_s;
   out.stats.seconds_solve = seconds_since(t0) - texture_s;
-  if (out.map) {
-    for (std::size_t i = 0; i < mesh.elements.size(); ++i)
-      out.stats.perturbed_elements += bumpy[mesh.elements[i].object];
-    out.stats.directions = out.map->directions().size();
-  }
+  count_map_stats(scene, out);
   out.rays = std::make_unique<RayScene>(mesh);
   return out;
+}
+
+std::unique_ptr<PerturbedMap> make_map(const Scene& scene, const Mesh& mesh) {
+  std::vector<bool> bumpy;
+  bool any = false;
+  for (const Object& o : scene.objects) {
+    bumpy.push_back(o.bump >= 0);
+    any = any || o.bump >= 0;
+  }
+  if (!any || scene.solver.texture == TextureMode::None) return nullptr;
+  return std::make_unique<PerturbedMap>(mesh, bumpy, scene.solver.map);
+}
+
+void count_map_stats(const Scene& scene, Solution& solution) {
+  solution.stats.perturbed_elements = 0;
+  solution.stats.directions = 0;
+  if (!solution.map) return;
+  for (const Element& e : solution.mesh->elements)
+    solution.stats.perturbed_elements += scene.objects[e.object].bump >= 0;
+  solution.stats.directions = solution.map->directions().size();
 }
 
 Image render(const Scene& scene, const Solution& solution) {

@@ -30,6 +30,13 @@ using StepCallback = std::function<bool(const Snapshot&, const PerturbedMap*)>;
 
 Solution solve(const Scene& scene, const StepCallback& on_step = {});
 
+// The (empty) perturbed map for `scene` on its mesh: null when no object has a bump
+// function or the texture mode is none. Solving and loading a saved solution both use it.
+std::unique_ptr<PerturbedMap> make_map(const Scene& scene, const Mesh& mesh);
+
+// Fills the stats that describe the map (perturbed elements, directions) from `solution`.
+void count_map_stats(const Scene& scene, Solution& solution);
+
 // The view pass for `scene`'s camera and bump functions over a solution of the same
 // geometry. Objects without a bump function, or a solution without a map, render smooth.
 Image render(const Scene& scene, const Solution& solution);

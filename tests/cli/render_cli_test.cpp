@@ -143,6 +143,28 @@ TEST_F(RenderCli, BumpFileReplacesTheScenesBumpFunctions) {
       << r.output;
 }
 
+TEST_F(RenderCli, RetextureFromASavedSolutionMatchesRenderingWithTheBump) {
+  std::ofstream(path("bricks.json")) << R"({"wrinkles": {"type": "bricks", "amplitude": 0.006}})";
+  Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 -o " + path("a.png") +
+                  " --save-map " + path("m.bumprad"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run("retexture " + path("m.bumprad") + " --bump " + path("bricks.json") + " -o " +
+          path("retextured.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no solve"), std::string::npos) << r.output;
+  r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 --bump " + path("bricks.json") +
+          " -o " + path("direct.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_image(path("retextured.png")).rgb, read_image(path("direct.png")).rgb);
+  EXPECT_NE(read_image(path("retextured.png")).rgb, read_image(path("a.png")).rgb);
+
+  r = run("retexture " + path("bricks.json") + " -o " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("not a bumprad solution file"), std::string::npos) << r.output;
+  r = run("retexture " + path("m.bumprad"));
+  EXPECT_EQ(r.exit_code, 2);
+}
+
 TEST_F(RenderCli, ListsBuiltinScenes) {
   Process r = run("scenes");
   EXPECT_EQ(r.exit_code, 0);

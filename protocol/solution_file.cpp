@@ -1,0 +1,160 @@
+#include "protocol/solution_file.h"
+
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "protocol/scene_json.h"
+#include "solver/atomic_file.h"
+
+namespace bumprad {
+namespace {
+
+constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
+constexpr std::uint32_t kVersion = 1;
+static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
+
+// FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
+std::uint64_t fnv1a(const char* data, std::size_t n) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ std::uint8_t(data[i])) * 0x100000001b3ull;
+  return h;
+}
+
+class Writer {
+ public:
+  template <typename T>
+  void put(const T& v) {
+    bytes_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void put_rgbs(const std::vector<Rgb>& v) {
+    put(std::uint64_t(v.size()));
+    for (const Rgb& c : v) put(c);
+  }
+  std::string& bytes() { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  Reader(std::string_view bytes, const std::string& name) : bytes_(bytes), name_(name) {}
+  template <typename T>
+  T get() {
+    T v;
+    need(sizeof v);
+    std::memcpy(&v, bytes_.data() + at_, sizeof v);
+    at_ += sizeof v;
+    return v;
+  }
+  std::vector<Rgb> get_rgbs() {
+    std::uint64_t n = get<std::uint64_t>();
+    need(n * sizeof(Rgb));
+    std::vector<Rgb> v(n);
+    std::memcpy(v.data(), bytes_.data() + at_, n * sizeof(Rgb));
+    at_ += n * sizeof(Rgb);
+    return v;
+  }
+  std::string get_string() {
+    std::uint64_t n = get<std::uint64_t>();
+    need(n);
+    std::string s(bytes_.substr(at_, n));
+    at_ += n;
+    return s;
+  }
+
+ private:
+  void need(std::uint64_t n) const {
+    if (n > bytes_.size() - at_) throw SolutionFileError(name_ + ": truncated solution file");
+  }
+  std::string_view bytes_;
+  std::size_t at_ = 0;
+  std::string name_;
+};
+
+}  // namespace
+
+void save_solution(const std::filesystem::path& path, std::string_view scene_json,
+                   const Solution& solution) {
+  Writer w;
+  w.bytes().append(kMagic, sizeof kMagic);
+  w.put(kVersion);
+  w.put(std::uint64_t(scene_json.size()));
+  w.bytes().append(scene_json);
+  w.put_rgbs(solution.radiosity);
+  w.put_rgbs(solution.display);
+  std::vector<Rgb> map;
+  if (solution.map)
+    for (std::uint32_t slot = 0; slot < solution.map->vertex_count(); ++slot)
+      for (const Rgb& b : solution.map->samples(slot)) map.push_back(b);
+  w.put_rgbs(map);
+  const SolveStats& s = solution.stats;
+  w.put(std::int64_t(s.shots));
+  w.put(s.seconds_solve);
+  w.put(s.unshot_fraction);
+  w.put(s.seconds_texture);
+  w.put(fnv1a(w.bytes().data(), w.bytes().size()));
+  write_file_atomically(path, w.bytes());
+}
+
+LoadedSolution load_solution(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SolutionFileError(name + ": cannot open the solution file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string bytes = text.str();
+  if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+    throw SolutionFileError(name + ": not a bumprad solution file");
+  Reader header(std::string_view(bytes).substr(sizeof kMagic), name);
+  std::uint32_t version = header.get<std::uint32_t>();
+  if (version != kVersion)
+    throw SolutionFileError(name + ": solution file format version " + std::to_string(version) +
+                            "; this build reads version " + std::to_string(kVersion));
+  const std::size_t body = bytes.size() - sizeof(std::uint64_t);
+  std::uint64_t stored;
+  if (bytes.size() < sizeof kMagic + sizeof version + sizeof stored)
+    throw SolutionFileError(name + ": truncated solution file");
+  std::memcpy(&stored, bytes.data() + body, sizeof stored);
+  if (stored != fnv1a(bytes.data(), body))
+    throw SolutionFileError(name + ": corrupt or truncated solution file (checksum mismatch)");
+
+  Reader r(std::string_view(bytes).substr(sizeof kMagic + sizeof version, body), name);
+  LoadedSolution out;
+  out.scene_json = r.get_string();
+  try {
+    out.scene = parse_scene(std::string_view(out.scene_json));
+  } catch (const SceneError& e) {
+    throw SolutionFileError(name + ": its scene is invalid: " + e.what());
+  }
+  Solution& s = out.solution;
+  s.radiosity = r.get_rgbs();
+  s.display = r.get_rgbs();
+  std::vector<Rgb> map = r.get_rgbs();
+  s.stats.shots = int(r.get<std::int64_t>());
+  s.stats.seconds_solve = r.get<double>();
+  s.stats.unshot_fraction = r.get<double>();
+  s.stats.seconds_texture = r.get<double>();
+
+  s.mesh = std::make_unique<Mesh>(build_mesh(out.scene));
+  s.map = make_map(out.scene, *s.mesh);
+  const std::size_t samples = s.map ? s.map->vertex_count() * s.map->directions().size() : 0;
+  if (s.radiosity.size() != s.mesh->elements.size() || s.display.size() != s.radiosity.size() ||
+      map.size() != samples)
+    throw SolutionFileError(name + ": its data does not fit its scene's mesh");
+  if (s.map) {
+    const std::size_t nd = s.map->directions().size();
+    for (std::uint32_t slot = 0; slot < s.map->vertex_count(); ++slot)
+      std::copy_n(map.begin() + std::ptrdiff_t(slot * nd), nd, s.map->samples(slot).begin());
+  }
+  s.stats.elements = s.mesh->elements.size();
+  count_map_stats(out.scene, s);
+  s.rays = std::make_unique<RayScene>(*s.mesh);
+  return out;
+}
+
+}  // namespace bumprad

@@ -1,0 +1,35 @@
+// The solution file (`bumprad render --save-map`, `bumprad retexture`): a solved scene with
+// its perturbed radiosity map, to re-texture later without solving. Binary, versioned and
+// checksummed; written atomically. Layout in docs/solution-file.md.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "solver/scene.h"
+#include "solver/solution.h"
+
+namespace bumprad {
+
+class SolutionFileError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// `scene_json` is the scene's text as parsed (the mesh is rebuilt from it on load).
+void save_solution(const std::filesystem::path& path, std::string_view scene_json,
+                   const Solution& solution);
+
+struct LoadedSolution {
+  Scene scene;
+  std::string scene_json;
+  Solution solution;
+};
+
+// Throws SolutionFileError naming the file and what is wrong with it: not a solution
+// file, another format version, truncated or corrupt, or inconsistent with its scene.
+LoadedSolution load_solution(const std::filesystem::path& path);
+
+}  // namespace bumprad

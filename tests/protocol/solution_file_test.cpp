@@ -1,0 +1,100 @@
+// Saved solutions round-trip bit for bit and render the same pixels; damaged, foreign and
+// other-version files are refused with a clear message.
+#include "protocol/solution_file.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "protocol/builtin_scenes.h"
+#include "protocol/scene_json.h"
+
+namespace bumprad {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SolutionFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("bumprad-solution-file-" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    auto doc = nlohmann::json::parse(*find_builtin_scene("wrinkled-box"));
+    doc["solver"]["max_shots"] = 30;
+    doc["solver"]["hemicube_resolution"] = 64;
+    doc["camera"]["width"] = doc["camera"]["height"] = 96;
+    text_ = doc.dump();
+    scene_ = parse_scene(std::string_view(text_));
+  }
+  fs::path saved() {
+    fs::path p = dir_ / "s.bumprad";
+    solution_ = solve(scene_);
+    save_solution(p, text_, solution_);
+    return p;
+  }
+  std::string bytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+  void write(const fs::path& p, const std::string& b) { std::ofstream(p, std::ios::binary) << b; }
+  void expect_refused(const fs::path& p, const std::string& reason) {
+    try {
+      load_solution(p);
+      ADD_FAILURE() << "loaded; expected " << reason;
+    } catch (const SolutionFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(p.string() + ": " + reason), std::string::npos)
+          << e.what();
+    }
+  }
+
+  fs::path dir_;
+  std::string text_;
+  Scene scene_;
+  Solution solution_;
+};
+
+TEST_F(SolutionFile, RoundTripIsBitExact) {
+  LoadedSolution back = load_solution(saved());
+  EXPECT_EQ(back.scene_json, text_);
+  EXPECT_EQ(back.solution.radiosity, solution_.radiosity);
+  EXPECT_EQ(back.solution.display, solution_.display);
+  ASSERT_TRUE(back.solution.map);
+  ASSERT_EQ(back.solution.map->vertex_count(), solution_.map->vertex_count());
+  for (std::uint32_t s = 0; s < solution_.map->vertex_count(); ++s) {
+    auto a = solution_.map->samples(s), b = back.solution.map->samples(s);
+    EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin())) << s;
+  }
+  EXPECT_EQ(back.solution.stats.shots, 30);
+  EXPECT_EQ(back.solution.stats.perturbed_elements, solution_.stats.perturbed_elements);
+  EXPECT_EQ(render(back.scene, back.solution).rgb, render(scene_, solution_).rgb);
+}
+
+TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
+  fs::path p = saved();
+  std::string good = bytes(p);
+  fs::path bad = dir_ / "bad.bumprad";
+
+  write(bad, good.substr(0, good.size() / 2));
+  expect_refused(bad, "corrupt or truncated");
+  write(bad, good.substr(0, 10));
+  expect_refused(bad, "truncated");
+  std::string flipped = good;
+  flipped[good.size() / 3] ^= 0x20;
+  write(bad, flipped);
+  expect_refused(bad, "corrupt or truncated solution file (checksum mismatch)");
+  std::string version = good;
+  version[8] = 7;
+  write(bad, version);
+  expect_refused(bad, "solution file format version 7; this build reads version 1");
+  write(bad, "\x89PNG\r\n\x1a\n and then some");
+  expect_refused(bad, "not a bumprad solution file");
+  expect_refused(dir_ / "missing.bumprad", "cannot open");
+}
+
+}  // namespace
+}  // namespace bumprad
