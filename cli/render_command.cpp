@@ -107,7 +107,7 @@ int render_command(std::span<const std::string_view> args) {
     // On a terminal the progress line rewrites itself every step; in a log, a line a second.
     const bool tty = ::isatty(STDERR_FILENO);
     auto last_line = std::chrono::steady_clock::now();
-    Solution solution = solve(scene, [&](const Snapshot& s, const PerturbedMap*) {
+    Solution solution = solve(scene, [&](const Snapshot& s, const Solution&) {
       if (!tty && !s.final && seconds_since(last_line) < 1) return true;
       last_line = std::chrono::steady_clock::now();
       std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,

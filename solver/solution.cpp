@@ -19,13 +19,9 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   out.mesh = std::make_unique<Mesh>(build_mesh(scene));
   const Mesh& mesh = *out.mesh;
 
-  std::vector<bool> bumpy(scene.objects.size(), false);
-  bool any = false;
-  for (std::size_t i = 0; i < scene.objects.size(); ++i)
-    any |= bumpy[i] = scene.objects[i].bump >= 0;
-  const TextureMode mode = any ? scene.solver.texture : TextureMode::None;
-  if (mode != TextureMode::None)
-    out.map = std::make_unique<PerturbedMap>(mesh, bumpy, scene.solver.map);
+  out.map = make_map(scene, mesh);
+  out.rays = std::make_unique<RayScene>(mesh);
+  const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver);
   double texture_s = 0;
@@ -37,7 +33,7 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
       out.map->finish_shooting(scene.materials);
       texture_s += seconds_since(t);
     }
-    return on_step(s, mode == TextureMode::Shoot ? out.map.get() : nullptr);
+    return on_step(s, out);
   });
   out.radiosity = solver.radiosity();
   out.display = solver.display_radiosity();
@@ -57,7 +53,6 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   out.stats.seconds_texture = texture_s;
   out.stats.seconds_solve = seconds_since(t0) - texture_s;
   count_map_stats(scene, out);
-  out.rays = std::make_unique<RayScene>(mesh);
   return out;
 }
 

@@ -24,9 +24,11 @@ struct Solution {
   SolveStats stats;
 };
 
-// Called after every refinement step with the snapshot and, when shooting, the map as it
-// stands; returning false stops the solve (the solution is then what was reached).
-using StepCallback = std::function<bool(const Snapshot&, const PerturbedMap*)>;
+// Called after every refinement step with the snapshot and the solution as it stands: its
+// mesh, rays and (when shooting) map are ready, so render(scene, solution,
+// snapshot.radiosity) is a preview with bumps from the first step on. Returning false stops
+// the solve; the solution is then what was reached.
+using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 
 Solution solve(const Scene& scene, const StepCallback& on_step = {});
 

@@ -69,6 +69,23 @@ TEST(Solution, RetexturingEqualsAFreshSolveWithTheNewBumps) {
   }
 }
 
+TEST(Solution, PreviewsShowBumpsFromTheFirstStepWhenShooting) {
+  Scene s = bumpy_scene(TextureMode::Shoot);
+  s.solver.preview_every = 5;
+  Scene flat = s;
+  for (BumpFunction& b : flat.bumps) b.amplitude = 0;
+  int steps = 0;
+  solve(s, [&](const Snapshot& snap, const Solution& partial) {
+    if (++steps == 1) {
+      EXPECT_EQ(snap.shots, 5);
+      Image bumpy = render(s, partial, snap.radiosity);
+      EXPECT_GT(max_difference(bumpy, render(flat, partial, snap.radiosity)), 0.01);
+    }
+    return true;
+  });
+  EXPECT_EQ(steps, 60 / 5);
+}
+
 TEST(Solution, FlatBumpsRenderAsNoBumps) {
   for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
     Scene flat = bumpy_scene(mode);
