@@ -11,7 +11,9 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "solver/image.h"
 #include "solver/mesh.h"
+#include "solver/texture.h"
 
 namespace bumprad {
 namespace {
@@ -153,6 +155,62 @@ class Node {
 
 constexpr double kHuge = 1e300;
 
+// A scale: one positive number for both axes, or [su, sv].
+glm::dvec2 scale_pair(const Node& n) {
+  if (n.value().is_number()) return glm::dvec2(n.positive());
+  n.array(2, 2);
+  return {n[0].positive(), n[1].positive()};
+}
+
+glm::dvec2 offset_pair(const Node& n) {
+  n.array(2, 2);
+  return {n[0].number(), n[1].number()};
+}
+
+Wrap parse_wrap(const Node& n) {
+  std::string w = n.string();
+  if (w == "repeat") return Wrap::Repeat;
+  if (w == "clamp") return Wrap::Clamp;
+  if (w == "mirror") return Wrap::Mirror;
+  n.fail("unknown wrap mode \"" + w + "\" (expected repeat, clamp or mirror)");
+}
+
+// Image files are read when the scene is parsed, relative to the working directory.
+std::shared_ptr<const Image> load_image_file(const Node& n) {
+  std::string path = n.string();
+  try {
+    auto image = std::make_shared<const Image>(read_image(path));
+    if (image->width < 1 || image->height < 1) n.fail("image \"" + path + "\" is empty");
+    return image;
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    n.fail(std::string("cannot read image: ") + e.what());
+  }
+}
+
+ColorTexture parse_texture(const Node& n) {
+  std::string type = n["type"].string();
+  ColorTexture t;
+  if (type == "checker") {
+    n.allow_only({"type", "colors", "scale", "offset"}, "checker texture");
+    if (auto c = n.get("colors")) {
+      c->array(2, 2);
+      t.colors = {(*c)[0].rgb(0, 1, true), (*c)[1].rgb(0, 1, true)};
+    }
+  } else if (type == "image") {
+    n.allow_only({"type", "file", "wrap", "scale", "offset"}, "image texture");
+    t.kind = ColorTexture::Kind::Image;
+    t.image = load_image_file(n["file"]);
+    if (auto w = n.get("wrap")) t.wrap = parse_wrap(*w);
+  } else {
+    n["type"].fail("unknown texture type \"" + type + "\" (expected checker or image)");
+  }
+  if (auto v = n.get("scale")) t.scale = scale_pair(*v);
+  if (auto v = n.get("offset")) t.offset = offset_pair(*v);
+  return t;
+}
+
 Camera parse_camera(const Node& n) {
   n.allow_only(
       {"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias"});
@@ -179,10 +237,22 @@ Camera parse_camera(const Node& n) {
 }
 
 Material parse_material(const Node& n, const std::string& name) {
-  n.allow_only({"reflectance", "emission", "specular", "shininess"});
+  n.allow_only({"reflectance", "emission", "specular", "shininess", "texture"});
   Material m;
   m.name = name;
   if (auto v = n.get("reflectance")) m.reflectance = v->rgb(0, 1, /*hi_open=*/true);
+  if (auto v = n.get("texture")) {
+    if (n.get("reflectance"))
+      n["reflectance"].fail(
+          "give reflectance or a texture, not both (a texture's mean is the "
+          "reflectance)");
+    m.texture = parse_texture(*v);
+    m.reflectance = texture_mean(*m.texture);
+    for (int c = 0; c < 3; ++c)
+      if (!(m.reflectance[c] < 1))
+        v->fail("the texture's mean reflectance must stay below 1 (got " +
+                describe(m.reflectance[c]) + ")");
+  }
   if (auto v = n.get("emission")) m.emission = v->rgb(0, kHuge, false);
   if (auto v = n.get("specular")) m.specular = v->in_range(0, 1, true);
   if (auto v = n.get("shininess")) m.shininess = v->in_range(0, 1e6, false);
@@ -198,12 +268,13 @@ BumpFunction parse_bump(const Node& n, const std::string& name) {
   static const std::map<std::string, BumpType> kTypes = {
       {"noise", BumpType::Noise},     {"wrinkles", BumpType::Wrinkles},
       {"bricks", BumpType::Bricks},   {"tiles", BumpType::Tiles},
-      {"dimples", BumpType::Dimples}, {"cylinder", BumpType::Cylinder}};
+      {"dimples", BumpType::Dimples}, {"cylinder", BumpType::Cylinder},
+      {"image", BumpType::Image}};
   std::string type = n["type"].string();
   auto it = kTypes.find(type);
   if (it == kTypes.end())
     n["type"].fail("unknown bump type \"" + type +
-                   "\" (expected noise, wrinkles, bricks, tiles, dimples or cylinder)");
+                   "\" (expected noise, wrinkles, bricks, tiles, dimples, cylinder or image)");
   BumpFunction b;
   b.name = name;
   b.type = it->second;
@@ -212,19 +283,14 @@ BumpFunction parse_bump(const Node& n, const std::string& name) {
   if (b.type == BumpType::Wrinkles || b.type == BumpType::Cylinder) keys.push_back("direction_deg");
   if (b.type == BumpType::Bricks || b.type == BumpType::Tiles) keys.push_back("mortar");
   if (b.type == BumpType::Dimples) keys.push_back("radius");
+  if (b.type == BumpType::Image) keys.insert(keys.end(), {"file", "wrap"});
   n.allow_only(keys, type + " bump");
   if (auto v = n.get("amplitude")) b.amplitude = v->in_range(0, kHuge, false);
-  if (auto v = n.get("scale")) {
-    if (v->value().is_number()) {
-      b.scale = glm::dvec2(v->positive());
-    } else {
-      v->array(2, 2);
-      b.scale = {(*v)[0].positive(), (*v)[1].positive()};
-    }
-  }
-  if (auto v = n.get("offset")) {
-    v->array(2, 2);
-    b.offset = {(*v)[0].number(), (*v)[1].number()};
+  if (auto v = n.get("scale")) b.scale = scale_pair(*v);
+  if (auto v = n.get("offset")) b.offset = offset_pair(*v);
+  if (b.type == BumpType::Image) {
+    b.image = load_image_file(n["file"]);
+    if (auto v = n.get("wrap")) b.wrap = parse_wrap(*v);
   }
   if (auto v = n.get("octaves")) b.octaves = int(v->integer(1, 12));
   if (auto v = n.get("seed")) b.seed = std::uint32_t(v->integer(0, 0xffffffffLL));

@@ -1,5 +1,7 @@
 #include "solver/bump.h"
 
+#include "solver/texture.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -80,6 +82,10 @@ double pattern(const BumpFunction& b, glm::dvec2 p) {
       double d2 = glm::dot(c, c) / (b.radius * b.radius);
       return d2 < 1 ? -(1 - d2) * (1 - d2) : 0.0;
     }
+    case BumpType::Image: {
+      Rgb c = sample_image(*b.image, p, b.wrap);
+      return (c.r + c.g + c.b) / 3;
+    }
     case BumpType::Cylinder: {
       // Fig. 4f of the paper: each unit strip bulges like half a cylinder.
       double t = 2 * fract(across(b, p)) - 1;
@@ -109,8 +115,9 @@ BumpSample evaluate_bump(const BumpFunction& b, glm::dvec2 uv) {
     du = slope * axis.x * b.scale.x;
     dv = slope * axis.y * b.scale.y;
   } else {
-    // Central differences, one thousandth of a pattern cell.
-    const double e = 1e-3;
+    // Central differences: a thousandth of a pattern cell, or half a texel of a height map.
+    double e = 1e-3;
+    if (b.type == BumpType::Image) e = 0.5 / std::max(b.image->width, b.image->height);
     du =
         (pattern(b, p + glm::dvec2(e, 0)) - pattern(b, p - glm::dvec2(e, 0))) / (2 * e) * b.scale.x;
     dv =

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "solver/scene.h"
+#include "solver/math.h"
 
 namespace bumprad {
 

@@ -4,17 +4,17 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
-#include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
+#include <memory>
+
+#include "solver/image.h"
+#include "solver/math.h"
 
 namespace bumprad {
-
-using Vec3 = glm::dvec3;
-using Rgb = glm::dvec3;
 
 // Documented limits; protocol/ rejects scenes beyond them before any work is done.
 struct Limits {
@@ -38,6 +38,22 @@ struct Camera {
   int antialias = 1;    // n: an n x n stratified grid of rays per pixel
 };
 
+// How an image or pattern repeats outside [0,1]^2.
+enum class Wrap { Repeat, Clamp, Mirror };
+
+// A colour texture over a surface's (u,v): its colours are diffuse reflectances. The solve
+// uses their mean (Material::reflectance); rendering scales the reflected radiosity by
+// rho(u,v) / mean (Cohen et al. 1986), which is how the paper shows its chessboard floor.
+struct ColorTexture {
+  enum class Kind { Checker, Image };
+  Kind kind = Kind::Checker;
+  std::array<Rgb, 2> colors{Rgb(0.1), Rgb(0.8)};  // checker
+  std::shared_ptr<const Image> image;             // image: linear reflectances
+  Wrap wrap = Wrap::Repeat;
+  glm::dvec2 scale{1, 1};  // checker: squares across the surface; image: repeats
+  glm::dvec2 offset{0, 0};
+};
+
 // Diffuse albedo rho and emitted radiosity E (W/m^2, i.e. pi times the radiance).
 // `specular` (k_s) and `shininess` are carried for the non-diffuse pass; until that pass
 // exists the specular fraction is absorbed.
@@ -47,6 +63,7 @@ struct Material {
   Rgb emission{0, 0, 0};
   double specular = 0;
   double shininess = 0;  // 0 means a perfect mirror
+  std::optional<ColorTexture> texture;
 };
 
 // How finely one object is meshed. A count of 0 means "derive from element_size"; an
@@ -83,7 +100,7 @@ struct TriangleMeshShape {
 using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
 
 // A named bump (height) function; solver/bump.h evaluates it.
-enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder };
+enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder, Image };
 
 // Heights are in scene units; the pattern is evaluated at uv * scale + offset, where uv is
 // the surface's own parameterisation in [0,1]^2.
@@ -95,9 +112,11 @@ struct BumpFunction {
   glm::dvec2 offset{0, 0};
   int octaves = 4;           // noise
   std::uint32_t seed = 1;    // noise
-  double direction_deg = 0;  // wrinkles: ridge normal, in the (u,v) plane
+  double direction_deg = 0;  // wrinkles, cylinder: the (u,v) direction the height varies along
   double mortar = 0.08;      // bricks, tiles: groove width, fraction of a cell
   double radius = 0.35;      // dimples: fraction of a cell
+  std::shared_ptr<const Image> image;  // image: grey-scale heights in [0,1], bilinear
+  Wrap wrap = Wrap::Repeat;            // image
 };
 
 struct Object {

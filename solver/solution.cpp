@@ -81,12 +81,12 @@ Image render(const Scene& scene, const Solution& solution) {
 }
 
 Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity) {
-  BumpTexture texture;
-  texture.map = solution.map.get();
-  texture.bumps = scene.bumps;
-  for (const Object& o : scene.objects) texture.object_bump.push_back(o.bump);
-  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity,
-                     solution.map ? &texture : nullptr);
+  SurfaceDetail detail;
+  detail.map = solution.map.get();
+  detail.bumps = scene.bumps;
+  for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
+  detail.materials = scene.materials;
+  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail);
 }
 
 }  // namespace bumprad

@@ -10,6 +10,7 @@
 
 #include "solver/bump.h"
 #include "solver/camera.h"
+#include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
@@ -48,11 +49,34 @@ Rgb bumpy_radiosity(const Mesh& mesh, const Element& e, const std::array<double,
 }  // namespace
 
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity, const BumpTexture* texture) {
+                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail) {
   const std::vector<Rgb> vertex = vertex_radiosity(mesh, element_radiosity);
   const PinholeCamera pinhole(camera);
   const int n = std::max(1, camera.antialias);
+  std::vector<Rgb> texture_scale(detail.materials.size(), Rgb(0));  // 1 / mean reflectance
+  for (std::size_t m = 0; m < detail.materials.size(); ++m)
+    if (const auto& t = detail.materials[m].texture) {
+      Rgb mean = texture_mean(*t);
+      for (int c = 0; c < 3; ++c) texture_scale[m][c] = mean[c] > 0 ? 1 / mean[c] : 0;
+    }
   Image image(camera.width, camera.height);
+
+  auto shade = [&](const Hit& hit) {
+    const Element& e = mesh.elements[hit.element];
+    std::array<double, 4> w = corner_weights(e, hit.u, hit.v);
+    int bump = detail.map ? detail.object_bump[e.object] : -1;
+    Rgb b = bump < 0
+                ? interpolate(e, vertex, hit.u, hit.v)
+                : bumpy_radiosity(mesh, e, w, detail.bumps[std::size_t(bump)], *detail.map, vertex);
+    if (detail.materials.empty()) return b;
+    const Material& m = detail.materials[std::size_t(e.material)];
+    if (!m.texture) return b;
+    glm::dvec2 uv(0);
+    for (int k = 0; k < e.vertex_count; ++k)
+      uv += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].uv;
+    Rgb rho = texture_reflectance(*m.texture, uv) * texture_scale[std::size_t(e.material)];
+    return m.emission + glm::max(b - m.emission, Rgb(0)) * rho;
+  };
 
   std::atomic<int> next_row{0};
   auto work = [&] {
@@ -61,17 +85,8 @@ Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
         Rgb sum(0);
         for (int sy = 0; sy < n; ++sy)
           for (int sx = 0; sx < n; ++sx) {
-            Ray ray = pinhole.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n);
-            auto hit = rays.intersect(ray);
-            if (!hit || !hit->front) continue;
-            const Element& e = mesh.elements[hit->element];
-            int bump = texture && texture->map ? texture->object_bump[e.object] : -1;
-            if (bump < 0) {
-              sum += interpolate(e, vertex, hit->u, hit->v);
-              continue;
-            }
-            sum += bumpy_radiosity(mesh, e, corner_weights(e, hit->u, hit->v),
-                                   texture->bumps[std::size_t(bump)], *texture->map, vertex);
+            auto hit = rays.intersect(pinhole.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n));
+            if (hit && hit->front) sum += shade(*hit);
           }
         image.set(x, y, sum / (double(n * n) * std::numbers::pi));
       }

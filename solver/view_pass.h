@@ -11,19 +11,22 @@
 
 namespace bumprad {
 
-// Bump textures for the view pass (paper section 2.4): per object, a bump function or none,
-// and the perturbed radiosity map they are looked up in.
-struct BumpTexture {
-  const PerturbedMap* map = nullptr;
+// Surface detail for the view pass: bump textures (paper section 2.4), per object a bump
+// function or none looked up in the perturbed radiosity map, and colour textures from the
+// materials.
+struct SurfaceDetail {
+  const PerturbedMap* map = nullptr;  // no bumps without it
   std::span<const BumpFunction> bumps;
-  std::vector<int> object_bump;  // per object: index into bumps, or -1
+  std::vector<int> object_bump;         // per object: index into bumps, or -1
+  std::span<const Material> materials;  // for colour textures; empty: none
 };
 
 // `element_radiosity` is per element (e.g. a Snapshot's). Back faces and misses are black.
-// With `texture`, a bumpy point shows its vertices' radiosity plus the map's change from N
-// to the perturbed N' (so a zero-amplitude bump renders exactly as no bump), interpolated
-// across the element. Rows are shared among the machine's cores.
+// A bumpy point shows its vertices' radiosity plus the map's change from N to the perturbed
+// N' (so a zero-amplitude bump renders exactly as no bump), interpolated across the
+// element. A colour texture scales the reflected part: B = E + (B - E) rho(u,v) / mean.
+// Rows are shared among the machine's cores.
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity, const BumpTexture* texture = nullptr);
+                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {});
 
 }  // namespace bumprad

@@ -2,6 +2,8 @@
 // reason it gives; plus the defaults a minimal scene gets.
 #include "protocol/scene_json.h"
 
+#include "solver/image.h"
+
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -253,6 +255,59 @@ TEST(SceneJson, BumpFunctions) {
   expect_rejected(d, "/bumps/w/scale", "must be greater than 0");
   d["bumps"] = {{"w", {{"amplitude", 1}}}};
   expect_rejected(d, "/bumps/w/type", "is required");
+}
+
+std::string write_test_image(const std::string& name, float value) {
+  std::string path = ::testing::TempDir() + name;
+  Image img(8, 8);
+  for (float& v : img.rgb) v = value;
+  write_image(path, img, 1);
+  return path;
+}
+
+TEST(SceneJson, ColourTextures) {
+  json d = minimal();
+  d["materials"]["floor"] = {
+      {"texture", {{"type", "checker"}, {"colors", {{0.1, 0.2, 0.3}, 0.5}}, {"scale", 8}}}};
+  d["objects"][0]["material"] = "floor";
+  Scene s = parse_scene(d);
+  const Material& m = s.materials[std::size_t(s.objects[0].material)];
+  ASSERT_TRUE(m.texture);
+  EXPECT_EQ(m.reflectance, Rgb(0.3, 0.35, 0.4));  // the mean of the two colours
+  EXPECT_EQ(m.texture->scale, glm::dvec2(8));
+
+  d["materials"]["floor"]["reflectance"] = 0.5;
+  expect_rejected(d, "/materials/floor/reflectance", "give reflectance or a texture, not both");
+  d["materials"]["floor"] = {{"texture", {{"type", "image"}, {"file", "/no/such.png"}}}};
+  expect_rejected(d, "/materials/floor/texture/file", "cannot read image");
+  d["materials"]["floor"] = {
+      {"texture", {{"type", "image"}, {"file", write_test_image("white.png", 1)}}}};
+  expect_rejected(d, "/materials/floor/texture", "mean reflectance must stay below 1");
+  d["materials"]["floor"] = {
+      {"texture",
+       {{"type", "image"}, {"file", write_test_image("grey.png", 0.5)}, {"wrap", "tile"}}}};
+  expect_rejected(d, "/materials/floor/texture/wrap", "unknown wrap mode \"tile\"");
+  d["materials"]["floor"]["texture"]["wrap"] = "mirror";
+  s = parse_scene(d);
+  EXPECT_NEAR(s.materials[std::size_t(s.objects[0].material)].reflectance.g, 0.5, 0.01);
+  d["materials"]["floor"] = {{"texture", {{"type", "marble"}}}};
+  expect_rejected(d, "/materials/floor/texture/type", "unknown texture type \"marble\"");
+}
+
+TEST(SceneJson, ImageBumps) {
+  json d = minimal();
+  d["bumps"] = {{"map",
+                 {{"type", "image"},
+                  {"file", write_test_image("h.png", 0.25)},
+                  {"wrap", "clamp"},
+                  {"amplitude", 0.01}}}};
+  Scene s = parse_scene(d);
+  ASSERT_TRUE(s.bumps[0].image);
+  EXPECT_EQ(s.bumps[0].wrap, Wrap::Clamp);
+  d["bumps"]["map"]["file"] = "/no/such/height.png";
+  expect_rejected(d, "/bumps/map/file", "cannot read image");
+  d["bumps"]["map"].erase("file");
+  expect_rejected(d, "/bumps/map/file", "is required");
 }
 
 TEST(SceneJson, TextureModeAndMapSettings) {

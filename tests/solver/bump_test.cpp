@@ -1,6 +1,8 @@
 // Bump functions' derivatives and Blinn's perturbed normal.
 #include "solver/bump.h"
 
+#include <memory>
+
 #include <cmath>
 #include <numbers>
 
@@ -31,6 +33,23 @@ TEST(Bump, DerivativesMatchCentralDifferencesOfTheHeight) {
       EXPECT_NEAR(s.dv, dv, 1e-3 * (1 + std::abs(dv))) << int(type);
     }
   }
+}
+
+TEST(Bump, ImageHeightMapSlopesFollowTheImage) {
+  // A 16 x 16 ramp rising along u: heights x / 15 in the red, green and blue channels.
+  auto img = std::make_shared<Image>(16, 16);
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x) img->set(x, y, Rgb(x / 15.0));
+  BumpFunction b;
+  b.type = BumpType::Image;
+  b.image = img;
+  b.wrap = Wrap::Clamp;
+  b.amplitude = 0.1;
+  BumpSample s = evaluate_bump(b, {0.5, 0.5});
+  // One texel (1/16 of u) rises 1/15 of the amplitude.
+  EXPECT_NEAR(s.du, 0.1 * 16 / 15.0, 1e-6);  // texels are floats
+  EXPECT_NEAR(s.dv, 0, 1e-12);
+  EXPECT_NEAR(s.height, 0.1 * 7.5 / 15, 1e-6);
 }
 
 TEST(Bump, BlinnTiltOnAPlaneIsTheSlope) {

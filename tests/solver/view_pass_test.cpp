@@ -64,6 +64,27 @@ TEST(ViewPass, ShowsRadiosityOverPiWithLinearRamp) {
   EXPECT_EQ(img.at(0, 0).r, 0.0f);  // beyond the quad: a miss
 }
 
+TEST(ViewPass, CheckerScalesTheReflectedRadiosityByRhoOverItsMean) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  Material mat;
+  mat.emission = Rgb(0.5);
+  mat.texture = ColorTexture{};
+  mat.texture->colors = {Rgb(0.2), Rgb(0.6)};  // mean 0.4
+  mat.texture->scale = {2, 1};                 // two squares across, one per element
+  std::vector<Material> materials = {mat};
+  SurfaceDetail detail;
+  detail.materials = materials;
+  std::vector<Rgb> b(2, Rgb(2.5));  // reflected part 2.0
+  Camera cam = facing(3);
+  Image img = render_view(m, rays, cam, b, detail);
+  // u runs along +x: the left square has colour 0, the right one colour 1.
+  double left = img.at(cam.width / 2 - 8, cam.height / 2).r * std::numbers::pi;
+  double right = img.at(cam.width / 2 + 8, cam.height / 2).r * std::numbers::pi;
+  EXPECT_NEAR(left, 0.5 + 2.0 * 0.2 / 0.4, 1e-5);
+  EXPECT_NEAR(right, 0.5 + 2.0 * 0.6 / 0.4, 1e-5);
+}
+
 TEST(ViewPass, BackFacesAreBlack) {
   Mesh m = two_element_quad();
   RayScene rays(m);
