@@ -210,13 +210,16 @@ std::span<const std::uint32_t> Hemicube::item_buffer() const {
 std::vector<VisibleElement>& Hemicube::form_factors() {
   auto t0 = std::chrono::steady_clock::now();
   visible_.clear();
+  watched_pixels_.clear();
   const std::uint32_t* ids = context_.pixels();
+  const bool watching = !watched_.empty();
   for (std::size_t p = 0, n = deltas_.size(); p < n; ++p) {
     std::uint32_t id = ids[p];
     if (!id) continue;
     double& s = sums_[id - 1];
     if (s == 0) visible_.push_back({id - 1, 0});
     s += deltas_.dF(p);
+    if (watching && watched_[id - 1]) watched_pixels_.push_back(std::uint32_t(p));
   }
   for (VisibleElement& v : visible_) {
     v.form_factor = sums_[v.element];

@@ -72,6 +72,12 @@ class Hemicube {
   // The list is the caller's to adjust until the next call (e.g. near-field corrections).
   std::vector<VisibleElement>& form_factors();
 
+  // Elements whose pixels form_factors() should also list (e.g. the bumpy ones the
+  // perturbed map shoots to), so that nobody scans the item buffer a second time.
+  void watch(std::vector<bool> elements) { watched_ = std::move(elements); }
+  // The pixels of watched elements seen in the last form_factors() call.
+  const std::vector<std::uint32_t>& watched_pixels() const { return watched_pixels_; }
+
   const DeltaFormFactors& deltas() const { return deltas_; }
   double last_render_seconds() const { return render_seconds_; }
   double last_accumulate_seconds() const { return accumulate_seconds_; }
@@ -85,6 +91,8 @@ class Hemicube {
   std::array<std::vector<std::uint32_t>, 5> face_indices_;  // per face, reused each render
   std::vector<double> sums_;
   std::vector<VisibleElement> visible_;
+  std::vector<bool> watched_;
+  std::vector<std::uint32_t> watched_pixels_;
   double render_seconds_ = 0, accumulate_seconds_ = 0;
 };
 

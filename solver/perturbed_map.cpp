@@ -177,10 +177,9 @@ void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const R
   auto ids = hemicube.item_buffer();
   // F''_ji(N'_s) = sum over j's pixels q showing i of dF_q max(0, N'.(-d_q)) / (N_i.(-d_q))
   // (eq. 20), in the receiving element's own tangent frame; the last entry sums F_ji.
-  for (std::size_t p = 0; p < ids.size(); ++p) {
-    if (!ids[p]) continue;
+  // The hemi-cube lists the pixels of perturbed elements (Hemicube::watch).
+  for (std::uint32_t p : hemicube.watched_pixels()) {
     std::int32_t es = element_slot_[ids[p] - 1];
-    if (es < 0) continue;
     double* acc = &scratch_[std::size_t(es) * (nd + 1)];
     Vec3 to_shooter = -glm::normalize(shooter.to_world(glm::dvec3(df.direction(p))));
     Vec3 local = element_frames_[std::size_t(es)].to_local(to_shooter);
@@ -200,6 +199,12 @@ void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const R
     for (std::size_t s = 0; s < nd; ++s) element_received_[std::size_t(es) * nd + s] += h * acc[s];
     std::fill(acc, acc + nd + 1, 0.0);
   }
+}
+
+std::vector<bool> PerturbedMap::perturbed_elements() const {
+  std::vector<bool> out(element_slot_.size());
+  for (std::size_t e = 0; e < out.size(); ++e) out[e] = element_slot_[e] >= 0;
+  return out;
 }
 
 void PerturbedMap::finish_shooting(const std::vector<Material>& materials) {

@@ -67,9 +67,13 @@ class PerturbedMap {
   void gather(const std::vector<Material>& materials, std::span<const Rgb> radiosity,
               Hemicube& hemicube);
 
+  // Per mesh element: does it carry the map? (For Hemicube::watch before shooting.)
+  std::vector<bool> perturbed_elements() const;
+
   // Shooting (eq. 20-22): call after every shot with the shooter's frame, its shot power
   // (dB_j A_j per channel) and the form factors the solver used, which carry its
-  // near-field corrections; F'' is scaled by the same ratio per element.
+  // near-field corrections; F'' is scaled by the same ratio per element. The hemi-cube
+  // must watch perturbed_elements().
   void shoot(const Hemicube& hemicube, const Frame& shooter, const Rgb& power,
              std::span<const VisibleElement> used);
   // Turns what shooting has accumulated into vertex samples (area-weighted over the

@@ -79,6 +79,11 @@ double ProgressiveSolver::unshot_fraction() const {
   return std::max(0.0, unshot) / emitted;
 }
 
+void ProgressiveSolver::attach_map(PerturbedMap* map) {
+  map_ = map;
+  hemicube_.watch(map ? map->perturbed_elements() : std::vector<bool>{});
+}
+
 bool ProgressiveSolver::done() const {
   return shots_ >= settings_.max_shots || unshot_fraction() <= settings_.unshot_fraction;
 }

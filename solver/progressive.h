@@ -50,7 +50,7 @@ class ProgressiveSolver {
                     const SolverSettings& settings);
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
-  void attach_map(PerturbedMap* map) { map_ = map; }
+  void attach_map(PerturbedMap* map);
 
   // One shot from the patch with the most unshot power. False if nothing was left to shoot.
   bool shoot();
