@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solver/image.h"
+#include "tests/test_files.h"
 
 namespace bumprad {
 namespace {
@@ -34,13 +35,7 @@ Process run(const std::string& args) {
 
 class RenderCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("bumprad-cli-" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = test::fresh_temp_dir("cli"); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   fs::path dir_;
 };

@@ -10,6 +10,7 @@
 
 #include "protocol/builtin_scenes.h"
 #include "protocol/scene_json.h"
+#include "tests/test_files.h"
 
 namespace bumprad {
 namespace {
@@ -19,11 +20,7 @@ namespace fs = std::filesystem;
 class SolutionFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("bumprad-solution-file-" +
-            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = test::fresh_temp_dir("solution-file");
     auto doc = nlohmann::json::parse(*find_builtin_scene("wrinkled-box"));
     doc["solver"]["max_shots"] = 30;
     doc["solver"]["hemicube_resolution"] = 64;

@@ -5,19 +5,15 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_files.h"
+
 namespace bumprad {
 namespace {
 
 namespace fs = std::filesystem;
 
 fs::path temp_dir() {
-  fs::path d =
-      fs::temp_directory_path() /
-      ("bumprad-image-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-       "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return test::fresh_temp_dir("image");
 }
 
 Image gradient() {

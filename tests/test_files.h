@@ -1,0 +1,12 @@
+// Real files for the tests: a fresh, empty directory per test.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace bumprad::test {
+
+// <tmp>/bumprad-<prefix>-<current test name>, emptied and created.
+std::filesystem::path fresh_temp_dir(const std::string& prefix);
+
+}  // namespace bumprad::test
