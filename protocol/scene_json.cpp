@@ -102,6 +102,12 @@ class Node {
   double positive() const {
     double x = number();
     if (!(x > 0)) fail("must be greater than 0 (got " + describe(x) + ")");
+    return within_limit(x);
+  }
+  // Coordinates and sizes stay within +-Limits::kMaxMagnitude.
+  double within_limit(double x) const {
+    if (std::abs(x) > Limits::kMaxMagnitude)
+      fail("must be within +-" + describe(Limits::kMaxMagnitude) + " (got " + describe(x) + ")");
     return x;
   }
   double in_range(double lo, double hi, bool hi_open) const {
@@ -134,7 +140,8 @@ class Node {
   }
   Vec3 vec3() const {
     array(3, 3);
-    return {(*this)[0].number(), (*this)[1].number(), (*this)[2].number()};
+    auto at = [&](std::size_t i) { return (*this)[i].within_limit((*this)[i].number()); };
+    return {at(0), at(1), at(2)};
   }
   // An RGB triple or one number for all three channels, each in [lo, hi) or [lo, hi].
   Rgb rgb(double lo, double hi, bool hi_open) const {

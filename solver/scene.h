@@ -25,6 +25,8 @@ struct Limits {
   static constexpr int kMaxShots = 1'000'000;
   static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
   static constexpr int kMaxAntialias = 8;
+  // Coordinates and sizes, in scene units: squares and cross products must not overflow.
+  static constexpr double kMaxMagnitude = 1e12;
 };
 
 struct Camera {

@@ -215,6 +215,12 @@ TEST(SceneJson, Limits) {
   d["objects"][0]["mesh"] = {{"element_size", 0.001}};
   expect_rejected(d, "/objects/0", "more than 200000 elements");
   d = minimal();
+  d["camera"]["position"][2] = 5e200;  // would overflow squares and cross products
+  expect_rejected(d, "/camera/position/2", "must be within +-1e+12 (got 5e+200)");
+  d = minimal();
+  d["objects"][1]["size"][0] = 1e13;
+  expect_rejected(d, "/objects/1/size/0", "must be within +-1e+12");
+  d = minimal();
   d["objects"][0]["mesh"] = {{"elements", {5000, 1}}};
   expect_rejected(d, "/objects/0/mesh/elements/0", "must be between 1 and 4096");
 }
