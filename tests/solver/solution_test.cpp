@@ -86,6 +86,16 @@ TEST(Solution, PreviewsShowBumpsFromTheFirstStepWhenShooting) {
   EXPECT_EQ(steps, 60 / 5);
 }
 
+TEST(Solution, ExtremeTiltsStayFiniteAndNonNegative) {
+  // Slopes far beyond the outer ring, and normals tipped below the tangent plane.
+  for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
+    Scene s = bumpy_scene(mode);
+    for (BumpFunction& b : s.bumps) b.amplitude = 10;
+    Image img = render(s, solve(s));
+    for (float v : img.rgb) ASSERT_TRUE(std::isfinite(v) && v >= 0) << int(mode);
+  }
+}
+
 TEST(Solution, FlatBumpsRenderAsNoBumps) {
   for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
     Scene flat = bumpy_scene(mode);
