@@ -4,6 +4,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -90,6 +91,29 @@ DeltaFormFactors::DeltaFormFactors(int resolution) : resolution_(resolution) {
     weight_[p] = float(weights[p] / total);
     df_[p] = float(direction_[p].z * weights[p] / total);
   }
+  mirror_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    Vec3 d(direction_[p]);
+    mirror_[p] = std::uint32_t(pixel_for(Vec3(-d.x, -d.y, d.z)));
+  }
+}
+
+std::size_t DeltaFormFactors::pixel_for(const Vec3& d) const {
+  if (!(d.z > 0)) return size();
+  // The face whose forward axis the direction leans on most (the top face wins ties).
+  int best = 0;
+  double lean = d.z;
+  for (int f = 1; f < kFaces; ++f) {
+    double t = glm::dot(d, kFaceTable[f].forward);
+    if (t > lean) best = f, lean = t;
+  }
+  const Face& face = kFaceTable[best];
+  const int r = resolution_, rows = face_rows(best, r);
+  double ex = glm::dot(d, glm::cross(face.forward, face.up)) / lean;
+  double ey = glm::dot(d, face.up) / lean;
+  int col = std::clamp(int((ex + 1) / 2 * r), 0, r - 1);
+  int row = std::clamp(int((ey - face.ey_min) / (1 - face.ey_min) * rows), 0, rows - 1);
+  return std::size_t(face_row0(best, r) + row) * std::size_t(r) + std::size_t(col);
 }
 
 Hemicube::Hemicube(const Mesh& mesh, int resolution)

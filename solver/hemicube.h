@@ -44,11 +44,17 @@ class DeltaFormFactors {
   // (dF_px, dF_py, dF_pz): eq. 17 with the same normalisation; dF_pz == dF_p.
   glm::vec3 directional(std::size_t p) const { return direction_[p] * weight_[p]; }
 
+  // The pixel a local direction passes through, or size() for one below the tangent plane.
+  std::size_t pixel_for(const Vec3& local) const;
+  // The pixel of p's mirror direction (x, y, z) -> (-x, -y, z): a perfect mirror's lobe.
+  std::size_t mirror(std::size_t p) const { return mirror_[p]; }
+
  private:
   int resolution_;
   std::vector<float> df_;
   std::vector<float> weight_;  // dA / (pi r^4), normalised
   std::vector<glm::vec3> direction_;
+  std::vector<std::uint32_t> mirror_;
 };
 
 struct VisibleElement {

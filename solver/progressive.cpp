@@ -44,6 +44,11 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       settings_(settings),
       hemicube_(mesh, settings.hemicube_resolution),
       reflectance_(mesh.elements.size()),
+      specular_(mesh.elements.size()),
+      shininess_(mesh.elements.size()),
+      queue_(mesh.elements.size()),
+      source_slot_(mesh.patches.size(), -1),
+      incident_(mesh.elements.size(), Rgb(0)),
       radiosity_(mesh.elements.size()),
       unshot_(mesh.elements.size()),
       patch_unshot_power_(mesh.patches.size(), 0.0),
@@ -62,6 +67,8 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
     const Element& e = mesh.elements[i];
     const Material& m = materials[std::size_t(e.material)];
     reflectance_[i] = m.reflectance;
+    specular_[i] = m.specular;
+    shininess_[i] = m.shininess;
     radiosity_[i] = unshot_[i] = m.emission;
     emitted_ += m.emission * e.area;
     patch_unshot_power_[e.patch] += channel_sum(m.emission) * e.area;
@@ -96,10 +103,21 @@ bool ProgressiveSolver::shoot() {
   const Patch& patch = mesh_.patches[pi];
 
   // The patch shoots the area-weighted mean of its elements' unshot radiosity.
+  // Its specular queues shoot too, merged by source.
   Rgb shot_power(0);
+  std::vector<std::pair<std::uint32_t, Rgb>> sources;
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
     shot_power += unshot_[e] * mesh_.elements[e].area;
     unshot_[e] = Rgb(0);
+    for (const auto& [source, power] : queue_[e]) {
+      auto it = std::find_if(sources.begin(), sources.end(),
+                             [&](const auto& q) { return q.first == source; });
+      if (it == sources.end())
+        sources.emplace_back(source, power);
+      else
+        it->second += power;
+    }
+    queue_[e].clear();
   }
   patch_unshot_power_[pi] = 0;
 
@@ -124,19 +142,10 @@ bool ProgressiveSolver::shoot() {
   const double scale = corrected > 0 ? seen / corrected : 0;
   for (VisibleElement& v : visible) v.form_factor *= scale;
 
-  // Element i receives power dB_j A_j F_ji and reflects rho_i of it:
-  // dB_i += rho_i dB_j F_ji A_j / A_i.
-  for (const VisibleElement& v : visible) {
-    const Element& e = mesh_.elements[v.element];
-    Rgb incident = shot_power * v.form_factor;
-    Rgb reflected = reflectance_[v.element] * incident;
-    Rgb dB = reflected / e.area;
-    radiosity_[v.element] += dB;
-    unshot_[v.element] += dB;
-    patch_unshot_power_[e.patch] += channel_sum(reflected);
-    absorbed_ += incident - reflected;
-  }
+  // Element i receives power dB_j A_j F_ji (then dB_i += rho_i dB_j F_ji A_j / A_i).
+  for (const VisibleElement& v : visible) receive(v.element, shot_power * v.form_factor, pi);
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
+  if (!sources.empty()) shoot_specular(pi, origin, frame, sources);
   ++shots_;
 
   double texture_s = 0;
@@ -152,6 +161,93 @@ bool ProgressiveSolver::shoot() {
   total_.texture_s += last_shot_.texture_s;
   total_.total_s += last_shot_.total_s;
   return true;
+}
+
+void ProgressiveSolver::receive(std::uint32_t i, const Rgb& incident, std::uint32_t source) {
+  const Element& e = mesh_.elements[i];
+  Rgb diffuse = reflectance_[i] * incident;
+  Rgb specular = specular_[i] * incident;
+  radiosity_[i] += diffuse / e.area;
+  unshot_[i] += diffuse / e.area;
+  if (specular_[i] > 0) {
+    auto& q = queue_[i];
+    auto it = std::find_if(q.begin(), q.end(), [&](const auto& x) { return x.first == source; });
+    if (it == q.end())
+      q.emplace_back(source, specular);
+    else
+      it->second += specular;
+  }
+  patch_unshot_power_[e.patch] += channel_sum(diffuse + specular);
+  absorbed_ += incident - diffuse - specular;
+}
+
+void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, const Frame& frame,
+                                       const std::vector<std::pair<std::uint32_t, Rgb>>& sources) {
+  const DeltaFormFactors& d = hemicube_.deltas();
+  auto ids = hemicube_.item_buffer();
+  // Each source's pixels on this hemi-cube: where its light came in from (P in eq. 5).
+  std::vector<std::vector<std::uint32_t>> pixels(sources.size());
+  for (std::size_t k = 0; k < sources.size(); ++k) source_slot_[sources[k].first] = std::int32_t(k);
+  for (std::size_t p = 0; p < ids.size(); ++p)
+    if (ids[p])
+      if (std::int32_t k = source_slot_[mesh_.elements[ids[p] - 1].patch]; k >= 0)
+        pixels[std::size_t(k)].push_back(std::uint32_t(p));
+  for (const auto& s : sources) source_slot_[s.first] = -1;
+
+  std::vector<std::uint32_t> touched;
+  auto deposit = [&](std::size_t q, const Rgb& power) {
+    if (q >= ids.size() || !ids[q]) {
+      escaped_ += power;
+      return;
+    }
+    std::uint32_t i = ids[q] - 1;
+    if (incident_[i] == Rgb(0)) touched.push_back(i);
+    incident_[i] += power;
+  };
+  // The Phong lobe about the mirror direction, importance-sampled (pdf ~ cos^n) with 32
+  // stratified samples turned per pixel; samples below the surface are dropped and the rest
+  // renormalised, so exactly the queued power leaves (the lobe conserves energy).
+  const double n = shininess_[mesh_.patches[pi].first];
+  constexpr int kLobe = 32;
+  auto reflect = [&](std::uint32_t p, const Rgb& power) {
+    if (n <= 0) return deposit(d.mirror(p), power);
+    Vec3 in(d.direction(p));
+    Frame lobe = frame_about(glm::normalize(Vec3(-in.x, -in.y, in.z)), 2.399963 * p);
+    std::array<std::size_t, kLobe> out;
+    int valid = 0;
+    for (int k = 0; k < kLobe; ++k) {
+      double cos_a = std::pow((k / 4 + 0.5) / (kLobe / 4), 1 / (n + 1));
+      double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
+      double phi = 2 * std::numbers::pi * ((k % 4) + 0.5) / 4 + (k / 4) * 0.7;
+      std::size_t q =
+          d.pixel_for(lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a)));
+      if (q < d.size()) out[std::size_t(valid++)] = q;
+    }
+    if (valid == 0) return deposit(d.mirror(p), power);
+    for (int k = 0; k < valid; ++k) deposit(out[std::size_t(k)], power / double(valid));
+  };
+
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const Rgb& power = sources[k].second;
+    double f = 0;
+    for (std::uint32_t p : pixels[k]) f += d.dF(p);
+    if (f > 0) {
+      for (std::uint32_t p : pixels[k]) reflect(p, power * (d.dF(p) / f));  // H_p of eq. 5
+      continue;
+    }
+    // The source is hidden from the patch centre (it lit only part of the patch): its light
+    // still arrived along the direction of its centre.
+    Vec3 to_source = mesh_.patches[sources[k].first].centroid - origin;
+    std::size_t p = d.pixel_for(frame.to_local(glm::normalize(to_source)));
+    if (p < d.size())
+      reflect(std::uint32_t(p), power);
+    else
+      escaped_ += power;
+  }
+  for (std::uint32_t i : touched) {
+    receive(i, incident_[i], pi);
+    incident_[i] = Rgb(0);
+  }
 }
 
 // Near field (DESIGN.md section 4; Baum, Rushmeier & Winget 1989): one hemi-cube at the
@@ -201,7 +297,10 @@ Snapshot ProgressiveSolver::snapshot() const {
 
 EnergyLedger ProgressiveSolver::ledger() const {
   Rgb unshot(0);
-  for (std::size_t i = 0; i < unshot_.size(); ++i) unshot += unshot_[i] * mesh_.elements[i].area;
+  for (std::size_t i = 0; i < unshot_.size(); ++i) {
+    unshot += unshot_[i] * mesh_.elements[i].area;
+    for (const auto& q : queue_[i]) unshot += q.second;
+  }
   return {emitted_, absorbed_, escaped_, unshot};
 }
 

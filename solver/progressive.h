@@ -78,12 +78,26 @@ class ProgressiveSolver {
   };
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
+  // Element i receives `incident` watts from patch `source`: diffuse and specular shares.
+  void receive(std::uint32_t element, const Rgb& incident, std::uint32_t source);
+  // The specular part of a shot (paper eq. 4-6): queued power per source, reflected by the
+  // lobe from the source's pixels to the outgoing pixels of this hemi-cube.
+  void shoot_specular(std::uint32_t patch, const Vec3& origin, const Frame& frame,
+                      const std::vector<std::pair<std::uint32_t, Rgb>>& sources);
 
   const Mesh& mesh_;
   SolverSettings settings_;
   std::vector<std::vector<ShooterSample>> samples_;  // per patch, for the near field
   Hemicube hemicube_;
-  std::vector<Rgb> reflectance_;            // per element
+  std::vector<Rgb> reflectance_;   // per element: diffuse albedo rho = k_d * colour
+  std::vector<double> specular_;   // per element: k_s
+  std::vector<double> shininess_;  // per element: Phong exponent, 0 for a mirror
+  // Per non-diffuse element, the power it will reflect specularly, by source patch, since
+  // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
+  // shot at it since then, so O(non-diffuse elements x sources per interval).
+  std::vector<std::vector<std::pair<std::uint32_t, Rgb>>> queue_;
+  std::vector<std::int32_t> source_slot_;   // per patch, scratch for shoot_specular
+  std::vector<Rgb> incident_;               // per element, scratch for shoot_specular
   std::vector<Rgb> radiosity_;              // B, per element
   std::vector<Rgb> unshot_;                 // dB, per element
   std::vector<double> patch_unshot_power_;  // A * (dB.r + dB.g + dB.b), per patch

@@ -147,6 +147,18 @@ TEST(Hemicube, ItemBufferIdsMatchGeometryInAClosedRoom) {
   EXPECT_EQ(checked, h.deltas().size());
 }
 
+TEST(DeltaFormFactors, PixelForADirectionAndTheMirrorTable) {
+  DeltaFormFactors d(64);
+  for (std::size_t p = 0; p < d.size(); ++p) {
+    ASSERT_EQ(d.pixel_for(glm::dvec3(d.direction(p))), p);
+    glm::vec3 a = d.direction(p), b = d.direction(d.mirror(p));
+    // The mirror pixel holds the reflected direction, up to a pixel's width.
+    glm::vec3 m = glm::normalize(glm::vec3(-a.x, -a.y, a.z)), n = glm::normalize(b);
+    ASSERT_GT(glm::dot(m, n), std::cos(2.0 * 2 / 64)) << p;
+  }
+  EXPECT_EQ(d.pixel_for(Vec3(1, 0, -0.1)), d.size());
+}
+
 TEST(Hemicube, SkipsTheShootingPatchAndBackFaces) {
   // Two coincident-plane quads facing up, and one facing away above: nothing is visible.
   auto down = test::rectangle_facing_down(1, 1, 1);
