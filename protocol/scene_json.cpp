@@ -219,8 +219,8 @@ ColorTexture parse_texture(const Node& n) {
 }
 
 Camera parse_camera(const Node& n) {
-  n.allow_only(
-      {"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias"});
+  n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias",
+                "max_depth", "glossy_samples"});
   Camera c;
   c.position = n["position"].vec3();
   c.look_at = n["look_at"].vec3();
@@ -234,6 +234,8 @@ Camera parse_camera(const Node& n) {
   if (auto v = n.get("height")) c.height = int(v->integer(1, Limits::kMaxImageSide));
   if (auto v = n.get("exposure")) c.exposure = v->positive();
   if (auto v = n.get("antialias")) c.antialias = int(v->integer(1, Limits::kMaxAntialias));
+  if (auto v = n.get("max_depth")) c.max_depth = int(v->integer(0, 16));
+  if (auto v = n.get("glossy_samples")) c.glossy_samples = int(v->integer(1, 256));
   Vec3 view = c.look_at - c.position;
   if (!(glm::length(view) > 0)) n["look_at"].fail("must differ from position");
   if (!(glm::length(c.up) > 0)) n["up"].fail("must not be the zero vector");

@@ -36,8 +36,10 @@ struct Camera {
   double fov_y_deg = 40;
   int width = 512;
   int height = 512;
-  double exposure = 1;  // multiplies radiance before tone mapping
-  int antialias = 1;    // n: an n x n stratified grid of rays per pixel
+  double exposure = 1;     // multiplies radiance before tone mapping
+  int antialias = 1;       // n: an n x n stratified grid of rays per pixel
+  int max_depth = 5;       // specular bounces followed from the eye
+  int glossy_samples = 8;  // lobe samples at the first glossy surface a ray meets
 };
 
 // How an image or pattern repeats outside [0,1]^2.

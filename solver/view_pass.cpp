@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <numbers>
 #include <thread>
 #include <vector>
@@ -14,80 +15,141 @@
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
-
 namespace {
 
-// Radiosity at a bumpy point: N' from the bump function in the frame of the interpolated
-// surface, then each corner's B + (B'(N') - B'(N)) from the map, interpolated.
-Rgb bumpy_radiosity(const Mesh& mesh, const Element& e, const std::array<double, 4>& w,
-                    const BumpFunction& bump, const PerturbedMap& map,
-                    std::span<const Rgb> vertex) {
-  glm::dvec2 uv(0);
-  Vec3 n(0), dpdu(0), dpdv(0);
-  for (int k = 0; k < e.vertex_count; ++k) {
-    const Vertex& v = mesh.vertices[e.v[std::size_t(k)]];
-    double wk = w[std::size_t(k)];
-    uv += wk * v.uv;
-    n += wk * v.normal;
-    dpdu += wk * v.dpdu;
-    dpdv += wk * v.dpdv;
-  }
-  n = glm::normalize(n);
-  BumpSample f = evaluate_bump(bump, uv);
-  Vec3 local = tangent_frame(n, dpdu).to_local(perturb_normal(n, dpdu, dpdv, f.du, f.dv));
-  Rgb b(0);
-  for (int k = 0; k < e.vertex_count; ++k) {
-    std::uint32_t vi = e.v[std::size_t(k)];
-    Rgb bk = vertex[vi];
-    if (std::int32_t slot = map.slot(vi); slot >= 0)
-      bk += map.lookup(std::uint32_t(slot), local) - map.samples(std::uint32_t(slot))[0];
-    b += w[std::size_t(k)] * bk;
-  }
-  return glm::max(b, Rgb(0));
+// A point on a surface as the view pass shades it.
+struct SurfacePoint {
+  Vec3 position;
+  Vec3 normal;  // smooth (interpolated), perturbed where the surface is bumpy
+  Rgb radiosity;
+};
+
+// Deterministic per-ray random numbers (splitmix64): images do not depend on threads.
+double random01(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
 }
+
+class Tracer {
+ public:
+  Tracer(const Mesh& mesh, const RayScene& rays, const Camera& camera,
+         std::span<const Rgb> element_radiosity, const SurfaceDetail& detail)
+      : mesh_(mesh),
+        rays_(rays),
+        camera_(camera),
+        detail_(detail),
+        vertex_(vertex_radiosity(mesh, element_radiosity)),
+        texture_scale_(detail.materials.size(), Rgb(0)) {
+    for (std::size_t m = 0; m < detail.materials.size(); ++m)
+      if (const auto& t = detail.materials[m].texture) {
+        Rgb mean = texture_mean(*t);
+        for (int c = 0; c < 3; ++c) texture_scale_[m][c] = mean[c] > 0 ? 1 / mean[c] : 0;
+      }
+  }
+
+  // What the ray sees, in radiosity units (pi times radiance): the diffuse radiosity, plus
+  // k_s times what the surface reflects (second pass): a mirror follows one ray, a glossy
+  // surface samples its Phong lobe at the first glossy bounce (one ray after that).
+  Rgb trace(const Ray& ray, int depth, std::uint64_t& rng, bool sampled_lobe = false) const {
+    auto hit = rays_.intersect(ray);
+    if (!hit || !hit->front) return Rgb(0);
+    const Element& e = mesh_.elements[hit->element];
+    SurfacePoint p = shade(*hit, ray);
+    const Material* m =
+        detail_.materials.empty() ? nullptr : &detail_.materials[std::size_t(e.material)];
+    if (!m || m->specular <= 0 || depth >= camera_.max_depth) return p.radiosity;
+
+    Vec3 r = glm::reflect(ray.direction, p.normal);
+    Vec3 from = p.position + p.normal * (1e-6 * mesh_.diagonal());
+    if (m->shininess <= 0) return p.radiosity + m->specular * trace({from, r}, depth + 1, rng);
+    const int samples = sampled_lobe ? 1 : std::max(1, camera_.glossy_samples);
+    const Frame lobe = frame_about(r);
+    Rgb sum(0);
+    int valid = 0;
+    for (int s = 0; s < samples; ++s) {
+      double cos_a = std::pow(random01(rng), 1 / (m->shininess + 1));
+      double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
+      double phi = 2 * std::numbers::pi * random01(rng);
+      Vec3 d = lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a));
+      if (glm::dot(d, p.normal) <= 0) continue;  // below the surface: renormalised away
+      sum += trace({from, d}, depth + 1, rng, true);
+      ++valid;
+    }
+    return valid ? p.radiosity + m->specular * sum / double(valid) : p.radiosity;
+  }
+
+ private:
+  SurfacePoint shade(const Hit& hit, const Ray& ray) const {
+    const Element& e = mesh_.elements[hit.element];
+    std::array<double, 4> w = corner_weights(e, hit.u, hit.v);
+    glm::dvec2 uv(0);
+    Vec3 n(0), dpdu(0), dpdv(0);
+    for (int k = 0; k < e.vertex_count; ++k) {
+      const Vertex& v = mesh_.vertices[e.v[std::size_t(k)]];
+      double wk = w[std::size_t(k)];
+      uv += wk * v.uv;
+      n += wk * v.normal;
+      dpdu += wk * v.dpdu;
+      dpdv += wk * v.dpdv;
+    }
+    n = glm::normalize(n);
+    SurfacePoint p{ray.origin + hit.t * ray.direction, n, interpolate(e, vertex_, hit.u, hit.v)};
+
+    // Bumps (paper section 2.4): N' from the bump function in the frame of the smooth
+    // surface, then each corner's B + (B'(N') - B'(N)) from the map, interpolated.
+    int bump = detail_.map ? detail_.object_bump[e.object] : -1;
+    if (bump >= 0) {
+      BumpSample f = evaluate_bump(detail_.bumps[std::size_t(bump)], uv);
+      p.normal = perturb_normal(n, dpdu, dpdv, f.du, f.dv);
+      Vec3 local = tangent_frame(n, dpdu).to_local(p.normal);
+      Rgb b(0);
+      for (int k = 0; k < e.vertex_count; ++k) {
+        std::uint32_t vi = e.v[std::size_t(k)];
+        Rgb bk = vertex_[vi];
+        if (std::int32_t slot = detail_.map->slot(vi); slot >= 0)
+          bk += detail_.map->lookup(std::uint32_t(slot), local) -
+                detail_.map->samples(std::uint32_t(slot))[0];
+        b += w[std::size_t(k)] * bk;
+      }
+      p.radiosity = glm::max(b, Rgb(0));
+    }
+
+    // Colour texture: B = E + (B - E) rho(u,v) / mean.
+    if (!detail_.materials.empty())
+      if (const Material& m = detail_.materials[std::size_t(e.material)]; m.texture) {
+        Rgb rho = texture_reflectance(*m.texture, uv) * texture_scale_[std::size_t(e.material)];
+        p.radiosity = m.emission + glm::max(p.radiosity - m.emission, Rgb(0)) * rho;
+      }
+    return p;
+  }
+
+  const Mesh& mesh_;
+  const RayScene& rays_;
+  const Camera& camera_;
+  const SurfaceDetail& detail_;
+  std::vector<Rgb> vertex_;
+  std::vector<Rgb> texture_scale_;  // per material: 1 / the texture's mean reflectance
+};
 
 }  // namespace
 
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail) {
-  const std::vector<Rgb> vertex = vertex_radiosity(mesh, element_radiosity);
+  const Tracer tracer(mesh, rays, camera, element_radiosity, detail);
   const PinholeCamera pinhole(camera);
   const int n = std::max(1, camera.antialias);
-  std::vector<Rgb> texture_scale(detail.materials.size(), Rgb(0));  // 1 / mean reflectance
-  for (std::size_t m = 0; m < detail.materials.size(); ++m)
-    if (const auto& t = detail.materials[m].texture) {
-      Rgb mean = texture_mean(*t);
-      for (int c = 0; c < 3; ++c) texture_scale[m][c] = mean[c] > 0 ? 1 / mean[c] : 0;
-    }
   Image image(camera.width, camera.height);
-
-  auto shade = [&](const Hit& hit) {
-    const Element& e = mesh.elements[hit.element];
-    std::array<double, 4> w = corner_weights(e, hit.u, hit.v);
-    int bump = detail.map ? detail.object_bump[e.object] : -1;
-    Rgb b = bump < 0
-                ? interpolate(e, vertex, hit.u, hit.v)
-                : bumpy_radiosity(mesh, e, w, detail.bumps[std::size_t(bump)], *detail.map, vertex);
-    if (detail.materials.empty()) return b;
-    const Material& m = detail.materials[std::size_t(e.material)];
-    if (!m.texture) return b;
-    glm::dvec2 uv(0);
-    for (int k = 0; k < e.vertex_count; ++k)
-      uv += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].uv;
-    Rgb rho = texture_reflectance(*m.texture, uv) * texture_scale[std::size_t(e.material)];
-    return m.emission + glm::max(b - m.emission, Rgb(0)) * rho;
-  };
-
   std::atomic<int> next_row{0};
   auto work = [&] {
     for (int y; (y = next_row++) < camera.height;) {
       for (int x = 0; x < camera.width; ++x) {
+        std::uint64_t rng = (std::uint64_t(y) << 32) | std::uint32_t(x);
         Rgb sum(0);
         for (int sy = 0; sy < n; ++sy)
-          for (int sx = 0; sx < n; ++sx) {
-            auto hit = rays.intersect(pinhole.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n));
-            if (hit && hit->front) sum += shade(*hit);
-          }
+          for (int sx = 0; sx < n; ++sx)
+            sum += tracer.trace(pinhole.ray(x + (sx + 0.5) / n, y + (sy + 0.5) / n), 0, rng);
         image.set(x, y, sum / (double(n * n) * std::numbers::pi));
       }
     }

@@ -25,7 +25,9 @@ struct SurfaceDetail {
 // A bumpy point shows its vertices' radiosity plus the map's change from N to the perturbed
 // N' (so a zero-amplitude bump renders exactly as no bump), interpolated across the
 // element. A colour texture scales the reflected part: B = E + (B - E) rho(u,v) / mean.
-// Rows are shared among the machine's cores.
+// Surfaces with a specular fraction k_s add k_s times what they reflect (the second pass):
+// mirrors recurse up to camera.max_depth, glossy surfaces average camera.glossy_samples
+// lobe rays. Rows are shared among the machine's cores; images do not depend on them.
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {});
 
