@@ -201,6 +201,18 @@ void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const R
   }
 }
 
+void PerturbedMap::receive_ray(std::uint32_t element, const Vec3& to_source, const Rgb& power) {
+  std::int32_t es = element_slot_[element];
+  if (es < 0) return;
+  const std::size_t nd = directions_.size();
+  Vec3 local = element_frames_[std::size_t(es)].to_local(to_source);
+  // As in eq. 20 for one pixel: the irradiance scales by cos' / cos, cos held as in shoot().
+  Rgb h = power / (mesh_.elements[element].area * std::max(local.z, kMinCosine));
+  for (std::size_t s = 0; s < nd; ++s)
+    element_received_[std::size_t(es) * nd + s] +=
+        h * std::max(0.0, glm::dot(directions_.direction(s), local));
+}
+
 std::vector<bool> PerturbedMap::perturbed_elements() const {
   std::vector<bool> out(element_slot_.size());
   for (std::size_t e = 0; e < out.size(); ++e) out[e] = element_slot_[e] >= 0;

@@ -76,6 +76,11 @@ class PerturbedMap {
   // must watch perturbed_elements().
   void shoot(const Hemicube& hemicube, const Frame& shooter, const Rgb& power,
              std::span<const VisibleElement> used);
+    // Power arriving at a perturbed element along one direction (`to_source`, world, unit),
+  // as specular transfer delivers it (paper section 2.4: texture lit by reflections).
+  // Ignored for elements without the map.
+  void receive_ray(std::uint32_t element, const Vec3& to_source, const Rgb& power);
+
   // Turns what shooting has accumulated into vertex samples (area-weighted over the
   // elements around each vertex). Cheap; call before each preview.
   void finish_shooting(const std::vector<Material>& materials);

@@ -203,6 +203,7 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
     std::uint32_t i = ids[q] - 1;
     if (incident_[i] == Rgb(0)) touched.push_back(i);
     incident_[i] += power;
+    if (map_) map_->receive_ray(i, -glm::normalize(frame.to_world(Vec3(d.direction(q)))), power);
   };
   // The Phong lobe about the mirror direction, importance-sampled (pdf ~ cos^n) with 32
   // stratified samples turned per pixel; samples below the surface are dropped and the rest

@@ -40,6 +40,9 @@ RayScene::RayScene(const Mesh& mesh) : mesh_(mesh) {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("Embree: cannot create a device");
   scene_ = rtcNewScene(device_);
+  // Watertight: without it a ray along the diagonal that splits a quad, or along an edge
+  // two elements share, can pass between them (seen: a mirror's centre pixel went black).
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   quad_geometry_ = attach(device_, scene_, mesh, 4, quad_elements_);
   triangle_geometry_ = attach(device_, scene_, mesh, 3, triangle_elements_);
   rtcCommitScene(scene_);

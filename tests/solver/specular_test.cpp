@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "solver/form_factor_exact.h"
+#include "solver/perturbed_map.h"
 #include "solver/progressive.h"
 #include "tests/test_scenes.h"
 
@@ -98,6 +99,40 @@ TEST(Specular, EnergyBalancesAfterEveryShotWithSpecularTransfer) {
         ASSERT_NEAR(balance[c], l.emitted[c], 1e-9 * l.emitted[c]) << shininess << " " << shot;
     }
   }
+}
+
+TEST(Specular, BumpsLitThroughAMirrorGetTheirMapFromTheReflection) {
+  // The wall lit only through the mirror carries a perturbed map: its tilted samples
+  // must follow k_s E F(wall(N') -> emitter image), which Lambert gives at any tilt.
+  Scene s = mirror_scene(0);
+  s.objects[2].bump = 0;
+  s.bumps.push_back(BumpFunction{});
+  Mesh mesh = build_mesh(s);
+  PerturbedMap map(mesh, {false, false, true}, MapSettings{});
+  ProgressiveSolver solver(mesh, s.materials, s.solver);
+  solver.attach_map(&map);
+  solver.run();
+  map.finish_shooting(s.materials);
+  std::array<Vec3, 4> image = {Vec3(-0.8, -0.15, -1), Vec3(-0.8, 0.15, -1), Vec3(-0.5, 0.15, -1),
+                               Vec3(-0.5, -0.15, -1)};
+  double worst = 0, largest = 0;
+  for (std::uint32_t slot = 0; slot < map.vertex_count(); ++slot)
+    for (std::size_t k = 0; k < map.directions().size(); ++k) {
+      const Vertex& v = mesh.vertices[map.vertex_of(slot)];
+      Vec3 n = tangent_frame(v.normal, v.dpdu).to_world(map.directions().direction(k));
+      double f = 0;
+      for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j)
+          f += point_to_polygon(Vec3(0.4 + 0.3 * (i + 0.5) / 8, -0.15 + 0.3 * (j + 0.5) / 8, 1), n,
+                                image) /
+               64;
+      double exact = kWallRho * kKs * f;
+      largest = std::max(largest, exact);
+      worst = std::max(worst, std::abs(map.samples(slot)[k].g - exact));
+    }
+  std::printf("map through the mirror: worst |B' - exact| = %.2e of values up to %.2e\n", worst,
+              largest);
+  EXPECT_LT(worst, 0.05 * largest);  // measured 1.9%, the mirror's own error above
 }
 
 TEST(Specular, NoSpecularFractionIsTheDiffuseSolver) {

@@ -85,6 +85,51 @@ TEST(ViewPass, CheckerScalesTheReflectedRadiosityByRhoOverItsMean) {
   EXPECT_NEAR(right, 0.5 + 2.0 * 0.6 / 0.4, 1e-5);
 }
 
+TEST(ViewPass, AMirrorShowsKsTimesWhatItFaces) {
+  // Mirror (material 0: k_d 0, k_s 0.8) in z = 0 facing the camera at z = 3; behind the
+  // camera a large quad at z = 5 facing the mirror, with radiosity 2 (material 1).
+  Scene s = test::scene_of(
+      {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}),
+       test::quad({Vec3(-9, -9, 5), Vec3(-9, 9, 5), Vec3(9, 9, 5), Vec3(9, -9, 5)}, 1, 1, 1)});
+  s.materials[0].reflectance = Rgb(0);
+  s.materials[0].specular = 0.8;
+  s.materials.push_back(Material{});
+  Mesh m = build_mesh(s);
+  RayScene rays(m);
+  std::vector<Rgb> b(m.elements.size(), Rgb(0));
+  b.back() = Rgb(2);
+  SurfaceDetail detail;
+  detail.materials = s.materials;
+  Camera cam = facing(3);
+  Image img = render_view(m, rays, cam, b, detail);
+  EXPECT_NEAR(img.at(cam.width / 2, cam.height / 2).r * std::numbers::pi, 0.8 * 2, 1e-5);
+  cam.max_depth = 0;  // no reflection followed: only the mirror's own (zero) radiosity
+  EXPECT_EQ(render_view(m, rays, cam, b, detail).at(cam.width / 2, cam.height / 2).r, 0.0f);
+}
+
+TEST(ViewPass, GlossyRendersAreDeterministic) {
+  Scene s = test::scene_of(
+      {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}),
+       test::quad({Vec3(-9, -9, 5), Vec3(-9, 9, 5), Vec3(0, 9, 5), Vec3(0, -9, 5)}, 1, 1, 1)});
+  s.materials[0].specular = 0.4;
+  s.materials[0].shininess = 30;
+  s.materials.push_back(Material{});
+  Mesh m = build_mesh(s);
+  RayScene rays(m);
+  std::vector<Rgb> b(m.elements.size(), Rgb(0.3));
+  b.back() = Rgb(3);
+  SurfaceDetail detail;
+  detail.materials = s.materials;
+  Image a = render_view(m, rays, facing(3), b, detail);
+  EXPECT_EQ(a.rgb, render_view(m, rays, facing(3), b, detail).rgb);
+  double lo = 1e9, hi = 0;  // the half-lit lobe makes a gradient, not a constant
+  for (int x = 0; x < a.width; ++x) {
+    lo = std::min(lo, double(a.at(x, a.height / 2).r));
+    hi = std::max(hi, double(a.at(x, a.height / 2).r));
+  }
+  EXPECT_GT(hi - lo, 0.05);
+}
+
 TEST(ViewPass, BackFacesAreBlack) {
   Mesh m = two_element_quad();
   RayScene rays(m);
