@@ -131,6 +131,11 @@ int render_command(std::span<const std::string_view> args) {
         a.output.c_str(), image.width, image.height, stats.shots, stats.elements,
         solution.mesh->patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve,
         seconds_view);
+    if (stats.non_diffuse_elements)
+      std::printf(
+          "non-diffuse: %zu elements (specular transfer in the solve, reflections in "
+          "the view)\n",
+          stats.non_diffuse_elements);
     if (solution.map)
       std::printf("perturbed map: %zu elements, %zu directions, %s, %.3f s\n",
                   stats.perturbed_elements, stats.directions,

@@ -76,7 +76,7 @@ class PerturbedMap {
   // must watch perturbed_elements().
   void shoot(const Hemicube& hemicube, const Frame& shooter, const Rgb& power,
              std::span<const VisibleElement> used);
-    // Power arriving at a perturbed element along one direction (`to_source`, world, unit),
+  // Power arriving at a perturbed element along one direction (`to_source`, world, unit),
   // as specular transfer delivers it (paper section 2.4: texture lit by reflections).
   // Ignored for elements without the map.
   void receive_ray(std::uint32_t element, const Vec3& to_source, const Rgb& power);

@@ -145,7 +145,12 @@ bool ProgressiveSolver::shoot() {
   // Element i receives power dB_j A_j F_ji (then dB_i += rho_i dB_j F_ji A_j / A_i).
   for (const VisibleElement& v : visible) receive(v.element, shot_power * v.form_factor, pi);
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
-  if (!sources.empty()) shoot_specular(pi, origin, frame, sources);
+  double specular_s = 0;
+  if (!sources.empty()) {
+    auto t2 = std::chrono::steady_clock::now();
+    shoot_specular(pi, origin, frame, sources);
+    specular_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t2).count();
+  }
   ++shots_;
 
   double texture_s = 0;
@@ -155,10 +160,12 @@ bool ProgressiveSolver::shoot() {
     texture_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
+                specular_s,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
   total_.render_s += last_shot_.render_s;
   total_.accumulate_s += last_shot_.accumulate_s;
   total_.texture_s += last_shot_.texture_s;
+  total_.specular_s += last_shot_.specular_s;
   total_.total_s += last_shot_.total_s;
   return true;
 }

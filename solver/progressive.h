@@ -22,7 +22,7 @@ struct EnergyLedger {
 };
 
 struct ShotTiming {
-  double render_s = 0, accumulate_s = 0, texture_s = 0, total_s = 0;
+  double render_s = 0, accumulate_s = 0, texture_s = 0, specular_s = 0, total_s = 0;
 };
 
 // A finished (or stopped) solve, as reported to users.
@@ -33,7 +33,8 @@ struct SolveStats {
   double unshot_fraction = 0;
   double seconds_texture = 0;  // building the perturbed map (gather pass or shooting)
   std::size_t perturbed_elements = 0;
-  std::size_t directions = 0;  // sampled perturbed normals per vertex
+  std::size_t directions = 0;            // sampled perturbed normals per vertex
+  std::size_t non_diffuse_elements = 0;  // with a specular fraction
 };
 
 // What a refinement step hands out: enough to render a preview.

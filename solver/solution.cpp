@@ -49,6 +49,8 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
 
   out.stats.shots = solver.shots();
   out.stats.elements = mesh.elements.size();
+  for (const Element& e : mesh.elements)
+    out.stats.non_diffuse_elements += scene.materials[std::size_t(e.material)].specular > 0;
   out.stats.unshot_fraction = solver.unshot_fraction();
   out.stats.seconds_texture = texture_s;
   out.stats.seconds_solve = seconds_since(t0) - texture_s;
