@@ -85,43 +85,48 @@ TEST(ViewPass, CheckerScalesTheReflectedRadiosityByRhoOverItsMean) {
   EXPECT_NEAR(right, 0.5 + 2.0 * 0.6 / 0.4, 1e-5);
 }
 
-TEST(ViewPass, AMirrorShowsKsTimesWhatItFaces) {
-  // Mirror (material 0: k_d 0, k_s 0.8) in z = 0 facing the camera at z = 3; behind the
-  // camera a large quad at z = 5 facing the mirror, with radiosity 2 (material 1).
-  Scene s = test::scene_of(
-      {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}),
-       test::quad({Vec3(-9, -9, 5), Vec3(-9, 9, 5), Vec3(9, 9, 5), Vec3(9, -9, 5)}, 1, 1, 1)});
-  s.materials[0].reflectance = Rgb(0);
-  s.materials[0].specular = 0.8;
-  s.materials.push_back(Material{});
-  Mesh m = build_mesh(s);
-  RayScene rays(m);
-  std::vector<Rgb> b(m.elements.size(), Rgb(0));
-  b.back() = Rgb(2);
+// A specular quad (material 0) in z = 0 facing the camera at z = 3, and behind the camera
+// a quad at z = 5 facing it (material 1) reaching from x = -9 to `target_right`. Element
+// radiosity: 0 on the first, 2 on the target.
+struct SpecularView {
+  Scene scene;
+  Mesh mesh;
+  std::vector<Rgb> radiosity;
   SurfaceDetail detail;
-  detail.materials = s.materials;
+
+  SpecularView(double k_d, double k_s, double shininess, double target_right) {
+    scene = test::scene_of(
+        {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}),
+         test::quad(
+             {Vec3(-9, -9, 5), Vec3(-9, 9, 5), Vec3(target_right, 9, 5), Vec3(target_right, -9, 5)},
+             1, 1, 1)});
+    scene.materials[0].reflectance = Rgb(k_d);
+    scene.materials[0].specular = k_s;
+    scene.materials[0].shininess = shininess;
+    scene.materials.push_back(Material{});
+    mesh = build_mesh(scene);
+    radiosity.assign(mesh.elements.size(), Rgb(0));
+    radiosity.back() = Rgb(2);
+    detail.materials = scene.materials;
+  }
+  Image render(const Camera& camera) const {
+    RayScene rays(mesh);
+    return render_view(mesh, rays, camera, radiosity, detail);
+  }
+};
+
+TEST(ViewPass, AMirrorShowsKsTimesWhatItFaces) {
+  SpecularView v(0, 0.8, 0, 9);
   Camera cam = facing(3);
-  Image img = render_view(m, rays, cam, b, detail);
-  EXPECT_NEAR(img.at(cam.width / 2, cam.height / 2).r * std::numbers::pi, 0.8 * 2, 1e-5);
+  EXPECT_NEAR(v.render(cam).at(cam.width / 2, cam.height / 2).r * std::numbers::pi, 0.8 * 2, 1e-5);
   cam.max_depth = 0;  // no reflection followed: only the mirror's own (zero) radiosity
-  EXPECT_EQ(render_view(m, rays, cam, b, detail).at(cam.width / 2, cam.height / 2).r, 0.0f);
+  EXPECT_EQ(v.render(cam).at(cam.width / 2, cam.height / 2).r, 0.0f);
 }
 
 TEST(ViewPass, GlossyRendersAreDeterministic) {
-  Scene s = test::scene_of(
-      {test::quad({Vec3(-2, -1, 0), Vec3(2, -1, 0), Vec3(2, 1, 0), Vec3(-2, 1, 0)}),
-       test::quad({Vec3(-9, -9, 5), Vec3(-9, 9, 5), Vec3(0, 9, 5), Vec3(0, -9, 5)}, 1, 1, 1)});
-  s.materials[0].specular = 0.4;
-  s.materials[0].shininess = 30;
-  s.materials.push_back(Material{});
-  Mesh m = build_mesh(s);
-  RayScene rays(m);
-  std::vector<Rgb> b(m.elements.size(), Rgb(0.3));
-  b.back() = Rgb(3);
-  SurfaceDetail detail;
-  detail.materials = s.materials;
-  Image a = render_view(m, rays, facing(3), b, detail);
-  EXPECT_EQ(a.rgb, render_view(m, rays, facing(3), b, detail).rgb);
+  SpecularView v(0.3, 0.4, 30, 0);  // the target covers only half the lobe's reach
+  Image a = v.render(facing(3));
+  EXPECT_EQ(a.rgb, v.render(facing(3)).rgb);
   double lo = 1e9, hi = 0;  // the half-lit lobe makes a gradient, not a constant
   for (int x = 0; x < a.width; ++x) {
     lo = std::min(lo, double(a.at(x, a.height / 2).r));
