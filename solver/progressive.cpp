@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/form_factor_exact.h"
+#include "solver/vertex_radiosity.h"
 
 namespace bumprad {
 namespace {
@@ -18,22 +19,22 @@ double channel_sum(const Rgb& c) {
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
 constexpr double kNearField = 3.0;
 
-// Four points per element spread over its area: the centres of its 2 x 2 bilinear
-// sub-quads, or of a triangle's four midpoint sub-triangles.
+// Four points per element spread over its area, each standing for a quarter of it: the
+// centres of its 2 x 2 bilinear sub-quads, or of a triangle's four midpoint sub-triangles
+// (barycentric (2/3, 1/6, 1/6) and its turns, and (1/3, 1/3, 1/3)).
 void add_element_samples(const Mesh& mesh, const Element& e, double patch_area,
-                         std::vector<Vec3>& points, std::vector<double>& weights) {
-  auto p = [&](int k) { return mesh.vertices[e.v[k]].position; };
-  if (e.vertex_count == 4) {
-    for (double u : {0.25, 0.75})
-      for (double v : {0.25, 0.75})
-        points.push_back((1 - u) * (1 - v) * p(0) + u * (1 - v) * p(1) + u * v * p(2) +
-                         (1 - u) * v * p(3));
-  } else {
-    Vec3 c = (p(0) + p(1) + p(2)) / 3.0;
-    for (int k = 0; k < 3; ++k) points.push_back((2.0 * p(k) + c) / 3.0);
-    points.push_back(c);
+                         std::vector<ProgressiveSolver::ShooterSample>& out) {
+  static constexpr std::array<glm::dvec2, 4> kQuad = {
+      {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
+  static constexpr std::array<glm::dvec2, 4> kTriangle = {
+      {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 3, 1.0 / 3}}};
+  for (const glm::dvec2& uv : e.vertex_count == 4 ? kQuad : kTriangle) {
+    std::array<double, 4> w = corner_weights(e, uv.x, uv.y);
+    Vec3 point(0);
+    for (int k = 0; k < e.vertex_count; ++k)
+      point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+    out.push_back({point, e.area / (4 * patch_area)});
   }
-  for (int k = 0; k < 4; ++k) weights.push_back(e.area / (4 * patch_area));
 }
 
 }  // namespace
@@ -56,11 +57,8 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   samples_.resize(mesh.patches.size());
   for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
     const Patch& patch = mesh.patches[p];
-    std::vector<Vec3> points;
-    std::vector<double> weights;
     for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-      add_element_samples(mesh, mesh.elements[e], patch.area, points, weights);
-    for (std::size_t k = 0; k < points.size(); ++k) samples_[p].push_back({points[k], weights[k]});
+      add_element_samples(mesh, mesh.elements[e], patch.area, samples_[p]);
   }
   Rgb weighted_rho(0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {

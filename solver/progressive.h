@@ -72,11 +72,13 @@ class ProgressiveSolver {
   const ShotTiming& last_shot() const { return last_shot_; }
   const ShotTiming& total_time() const { return total_; }
 
- private:
+  // A point on a shooting patch and the share of its area it stands for (near field).
   struct ShooterSample {
     Vec3 point;
     double weight;  // fraction of the patch's area
   };
+
+ private:
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
   // Element i receives `incident` watts from patch `source`: diffuse and specular shares.
