@@ -16,6 +16,17 @@ double channel_sum(const Rgb& c) {
   return c.r + c.g + c.b;
 }
 
+// Adds `power` to the entry of `source` in a by-source list (specular queues).
+void add_by_source(std::vector<std::pair<std::uint32_t, Rgb>>& list, std::uint32_t source,
+                   const Rgb& power) {
+  auto it =
+      std::find_if(list.begin(), list.end(), [&](const auto& x) { return x.first == source; });
+  if (it == list.end())
+    list.emplace_back(source, power);
+  else
+    it->second += power;
+}
+
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
 constexpr double kNearField = 3.0;
 
@@ -107,14 +118,7 @@ bool ProgressiveSolver::shoot() {
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
     shot_power += unshot_[e] * mesh_.elements[e].area;
     unshot_[e] = Rgb(0);
-    for (const auto& [source, power] : queue_[e]) {
-      auto it = std::find_if(sources.begin(), sources.end(),
-                             [&](const auto& q) { return q.first == source; });
-      if (it == sources.end())
-        sources.emplace_back(source, power);
-      else
-        it->second += power;
-    }
+    for (const auto& [source, power] : queue_[e]) add_by_source(sources, source, power);
     queue_[e].clear();
   }
   patch_unshot_power_[pi] = 0;
@@ -174,14 +178,7 @@ void ProgressiveSolver::receive(std::uint32_t i, const Rgb& incident, std::uint3
   Rgb specular = specular_[i] * incident;
   radiosity_[i] += diffuse / e.area;
   unshot_[i] += diffuse / e.area;
-  if (specular_[i] > 0) {
-    auto& q = queue_[i];
-    auto it = std::find_if(q.begin(), q.end(), [&](const auto& x) { return x.first == source; });
-    if (it == q.end())
-      q.emplace_back(source, specular);
-    else
-      it->second += specular;
-  }
+  if (specular_[i] > 0) add_by_source(queue_[i], source, specular);
   patch_unshot_power_[e.patch] += channel_sum(diffuse + specular);
   absorbed_ += incident - diffuse - specular;
 }
