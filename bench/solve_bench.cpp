@@ -3,7 +3,6 @@
 //   build/bin/bumprad-bench-solve [SCENE] [--shots N] [--hemicube R]
 // SCENE defaults to builtin:paper-room. The numbers go in the README with the machine.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -13,6 +12,7 @@
 #include "protocol/scene_source.h"
 #include "solver/mesh.h"
 #include "solver/progressive.h"
+#include "solver/stopwatch.h"
 
 namespace {
 
@@ -52,10 +52,10 @@ int main(int argc, char** argv) {
     if (hemicube > 0) scene.solver.hemicube_resolution = hemicube;
     scene.solver.unshot_fraction = 0;  // spend the whole shot budget
 
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = Clock::now();
     Mesh mesh = build_mesh(scene);
     ProgressiveSolver solver(mesh, scene.materials, scene.solver);
-    double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double setup = seconds_since(t0);
 
     // Diffuse shots and shots that also carry specular transfer (mirrors, glossy) apart.
     std::vector<double> render, accumulate, rest, total, specular, specular_total;
@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
         specular_total.push_back(1e3 * t.total_s);
       }
     }
-    double solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    double solve = seconds_since(t0);
 
     std::printf("scene %s: %zu elements, %zu patches, hemi-cube %d, %d shots, %u threads\n",
                 source.c_str(), mesh.elements.size(), mesh.patches.size(),

@@ -2,21 +2,15 @@
 //   build/bin/bumprad-bench-texture [SCENE...]      (default: paper-room and wrinkled-box)
 // For each scene: the whole solve with texture none, shoot and gather (the texture work
 // timed apart), and a 512 x 512 re-texture with another bump function (mean of 10).
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "protocol/scene_source.h"
 #include "solver/solution.h"
+#include "solver/stopwatch.h"
 
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 int main(int argc, char** argv) {
   using namespace bumprad;
@@ -32,7 +26,7 @@ int main(int argc, char** argv) {
       double plain = 0;
       for (TextureMode mode : {TextureMode::None, TextureMode::Shoot, TextureMode::Gather}) {
         scene.solver.texture = mode;
-        auto t0 = std::chrono::steady_clock::now();
+        auto t0 = Clock::now();
         Solution s = solve(scene);
         double total = seconds_since(t0);
         if (mode == TextureMode::None) plain = total;
@@ -48,7 +42,7 @@ int main(int argc, char** argv) {
         retextured.camera.antialias = 1;
         retextured.bumps[0].type = BumpType::Dimples;
         render(retextured, s);  // warm
-        auto t1 = std::chrono::steady_clock::now();
+        auto t1 = Clock::now();
         for (int i = 0; i < 10; ++i) render(retextured, s);
         std::printf("  re-texture 512x512, 1 ray per pixel: %.1f ms\n",
                     1e3 * seconds_since(t1) / 10);

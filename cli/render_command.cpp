@@ -2,9 +2,7 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -18,6 +16,7 @@
 #include "solver/atomic_file.h"
 #include "solver/image.h"
 #include "solver/solution.h"
+#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {
@@ -78,10 +77,6 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
   return r;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 int render_command(std::span<const std::string_view> args) {
@@ -106,10 +101,10 @@ int render_command(std::span<const std::string_view> args) {
 
     // On a terminal the progress line rewrites itself every step; in a log, a line a second.
     const bool tty = ::isatty(STDERR_FILENO);
-    auto last_line = std::chrono::steady_clock::now();
+    auto last_line = Clock::now();
     Solution solution = solve(scene, [&](const Snapshot& s, const Solution&) {
       if (!tty && !s.final && seconds_since(last_line) < 1) return true;
-      last_line = std::chrono::steady_clock::now();
+      last_line = Clock::now();
       std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
                    scene.solver.max_shots, 100 * s.unshot_fraction, tty ? "" : "\n");
       return true;
@@ -117,7 +112,7 @@ int render_command(std::span<const std::string_view> args) {
     if (tty) std::fputc('\n', stderr);
     const SolveStats& stats = solution.stats;
 
-    auto t1 = std::chrono::steady_clock::now();
+    auto t1 = Clock::now();
     Image image = render(scene, solution);
     write_image(a.output, image, scene.camera.exposure);
     double seconds_view = seconds_since(t1);

@@ -1,6 +1,5 @@
 #include "cli/retexture_command.h"
 
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -9,6 +8,7 @@
 #include "protocol/solution_file.h"
 #include "solver/image.h"
 #include "solver/solution.h"
+#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {
@@ -42,20 +42,20 @@ int retexture_command(std::span<const std::string_view> args) {
     return 2;
   }
   try {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = Clock::now();
     LoadedSolution loaded = load_solution(solution_path);
     if (!bump.empty()) apply_bump_file(bump, loaded.scene);
     if (!loaded.solution.map)
       std::cerr << "bumprad: warning: " << solution_path
                 << " has no perturbed map (no bumpy object, or texture none): rendering smooth\n";
-    auto t1 = std::chrono::steady_clock::now();
+    double seconds_load = seconds_since(t0);
+    auto t1 = Clock::now();
     Image image = render(loaded.scene, loaded.solution);
-    double seconds_render =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    double seconds_render = seconds_since(t1);
     write_image(output, image, loaded.scene.camera.exposure);
     std::printf("wrote %s (%dx%d) from %s: load %.3f s, re-texture %.3f s, no solve\n",
-                output.c_str(), image.width, image.height, solution_path.c_str(),
-                std::chrono::duration<double>(t1 - t0).count(), seconds_render);
+                output.c_str(), image.width, image.height, solution_path.c_str(), seconds_load,
+                seconds_render);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "bumprad: error: " << e.what() << "\n";

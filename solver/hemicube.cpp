@@ -1,11 +1,11 @@
 #define GL_GLEXT_PROTOTYPES
 #include "solver/hemicube.h"
+#include "solver/stopwatch.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -37,10 +37,6 @@ int face_row0(int face, int r) {
 }
 int face_rows(int face, int r) {
   return face == 0 ? r : r / 2;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -155,7 +151,7 @@ Hemicube::Hemicube(const Mesh& mesh, int resolution)
 
 void Hemicube::render(const Vec3& origin, const Frame& frame,
                       std::optional<std::uint32_t> skip_patch) {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   context_.make_current();
   const int r = deltas_.resolution();
   glViewport(0, 0, context_.width(), context_.height());
@@ -232,7 +228,7 @@ std::span<const std::uint32_t> Hemicube::item_buffer() const {
 }
 
 std::vector<VisibleElement>& Hemicube::form_factors() {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   visible_.clear();
   watched_pixels_.clear();
   const std::uint32_t* ids = context_.pixels();

@@ -1,12 +1,12 @@
 #include "solver/progressive.h"
 
 #include <algorithm>
-#include <chrono>
 #include <numbers>
 
 #include <glm/geometric.hpp>
 
 #include "solver/form_factor_exact.h"
+#include "solver/stopwatch.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
@@ -105,7 +105,7 @@ bool ProgressiveSolver::done() const {
 }
 
 bool ProgressiveSolver::shoot() {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   auto best = std::max_element(patch_unshot_power_.begin(), patch_unshot_power_.end());
   if (best == patch_unshot_power_.end() || *best <= 0) return false;
   const std::uint32_t pi = std::uint32_t(best - patch_unshot_power_.begin());
@@ -149,21 +149,20 @@ bool ProgressiveSolver::shoot() {
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
   double specular_s = 0;
   if (!sources.empty()) {
-    auto t2 = std::chrono::steady_clock::now();
+    auto t2 = Clock::now();
     shoot_specular(pi, origin, frame, sources);
-    specular_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t2).count();
+    specular_s = seconds_since(t2);
   }
   ++shots_;
 
   double texture_s = 0;
   if (map_) {
-    auto t1 = std::chrono::steady_clock::now();
+    auto t1 = Clock::now();
     map_->shoot(hemicube_, frame, shot_power, visible);
-    texture_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    texture_s = seconds_since(t1);
   }
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
-                specular_s,
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
+                specular_s, seconds_since(t0)};
   total_.render_s += last_shot_.render_s;
   total_.accumulate_s += last_shot_.accumulate_s;
   total_.texture_s += last_shot_.texture_s;

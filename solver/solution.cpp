@@ -1,20 +1,14 @@
 #include "solver/solution.h"
 
-#include <chrono>
 
+#include "solver/stopwatch.h"
 #include "solver/view_pass.h"
 
 namespace bumprad {
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Solution solve(const Scene& scene, const StepCallback& on_step) {
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   Solution out;
   out.mesh = std::make_unique<Mesh>(build_mesh(scene));
   const Mesh& mesh = *out.mesh;
@@ -29,7 +23,7 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   solver.run([&](const Snapshot& s) {
     if (!on_step) return true;
     if (mode == TextureMode::Shoot) {
-      auto t = std::chrono::steady_clock::now();
+      auto t = Clock::now();
       out.map->finish_shooting(scene.materials);
       texture_s += seconds_since(t);
     }
@@ -38,7 +32,7 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   out.radiosity = solver.radiosity();
   out.display = solver.display_radiosity();
 
-  auto t1 = std::chrono::steady_clock::now();
+  auto t1 = Clock::now();
   if (mode == TextureMode::Shoot) {
     out.map->finish_shooting(scene.materials);
   } else if (mode == TextureMode::Gather) {
