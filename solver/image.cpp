@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include "solver/atomic_file.h"
@@ -28,29 +30,44 @@ double srgb_encode(double x) {
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
 }
 
-void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
+std::optional<ImageFormat> image_format_for(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  if (ext != ".png" && ext != ".exr")
+  if (ext == ".png") return ImageFormat::Png;
+  if (ext == ".exr") return ImageFormat::Exr;
+  return std::nullopt;
+}
+
+std::string encode_image(const Image& image, ImageFormat format, double exposure) {
+  const char* name = format == ImageFormat::Png ? "png" : "exr";
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  auto out = OIIO::ImageOutput::create(name);
+  if (!out) throw std::runtime_error(std::string("no ") + name + " writer: " + OIIO::geterror());
+  out->set_ioproxy(&proxy);
+  bool ok;
+  if (format == ImageFormat::Png) {
+    std::vector<std::uint8_t> px(image.rgb.size());
+    for (std::size_t i = 0; i < px.size(); ++i)
+      px[i] = std::uint8_t(std::lround(255 * srgb_encode(exposure * image.rgb[i])));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    ok = out->open(std::string("memory.") + name, spec) &&
+         out->write_image(OIIO::TypeDesc::UINT8, px.data());
+  } else {
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
+    ok = out->open(std::string("memory.") + name, spec) &&
+         out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+  }
+  ok = out->close() && ok;
+  if (!ok) throw std::runtime_error(std::string("encoding ") + name + ": " + out->geterror());
+  return std::string(bytes.begin(), bytes.end());
+}
+
+void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
+  auto format = image_format_for(path);
+  if (!format)
     throw std::runtime_error(path.string() + ": unsupported image type (use .png or .exr)");
-  write_atomically(path, [&](const std::filesystem::path& tmp) {
-    auto out = OIIO::ImageOutput::create(tmp.string());
-    if (!out) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
-    bool ok;
-    if (ext == ".png") {
-      std::vector<std::uint8_t> px(image.rgb.size());
-      for (std::size_t i = 0; i < px.size(); ++i)
-        px[i] = std::uint8_t(std::lround(255 * srgb_encode(exposure * image.rgb[i])));
-      OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-      ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data());
-    } else {
-      OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-      ok = out->open(tmp.string(), spec) &&
-           out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
-    }
-    ok = out->close() && ok;
-    if (!ok) throw std::runtime_error(path.string() + ": " + out->geterror());
-  });
+  write_file_atomically(path, encode_image(image, *format, exposure));
 }
 
 Image read_image(const std::filesystem::path& path) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "solver/math.h"
@@ -21,6 +23,15 @@ struct Image {
 
 // Linear [0,1] to the sRGB transfer curve.
 double srgb_encode(double linear);
+
+enum class ImageFormat { Png, Exr };
+
+// By extension (.png or .exr, any case); nullopt for any other.
+std::optional<ImageFormat> image_format_for(const std::filesystem::path& path);
+
+// The file's bytes: PNG applies `exposure` and the sRGB curve; EXR keeps linear radiance
+// and ignores exposure. Files and HTTP bodies share this one encoder.
+std::string encode_image(const Image& image, ImageFormat format, double exposure);
 
 // The format follows the extension (.png or .exr); other extensions are refused.
 // Throws std::runtime_error naming the path on failure.

@@ -2,6 +2,7 @@
 #include "solver/image.h"
 
 #include <filesystem>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -41,6 +42,18 @@ TEST(Image, PngAppliesExposureAndSrgb) {
     EXPECT_NEAR(back.rgb[i], 0.5 * gradient().rgb[i], 0.01);  // 8-bit steps in sRGB
   EXPECT_NEAR(srgb_encode(0.0031308), 0.04045, 1e-5);
   EXPECT_DOUBLE_EQ(srgb_encode(2.0), 1.0);
+}
+
+TEST(Image, EncodesInMemoryTheBytesAFileWouldHold) {
+  fs::path p = temp_dir() / "g.png";
+  write_image(p, gradient(), 1);
+  std::string png = encode_image(gradient(), ImageFormat::Png, 1);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(png.size(), fs::file_size(p));
+  std::string exr = encode_image(gradient(), ImageFormat::Exr, 1);
+  EXPECT_EQ(exr.substr(0, 4), std::string("\x76\x2f\x31\x01", 4));  // OpenEXR magic
+  EXPECT_EQ(image_format_for("A.EXR"), ImageFormat::Exr);
+  EXPECT_EQ(image_format_for("a.jpg"), std::nullopt);
 }
 
 TEST(Image, RefusesUnknownTypesAndLeavesNoTemporaryFiles) {
