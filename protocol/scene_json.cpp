@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <initializer_list>
 #include <map>
 #include <optional>
@@ -182,11 +183,17 @@ Wrap parse_wrap(const Node& n) {
   n.fail("unknown wrap mode \"" + w + "\" (expected repeat, clamp or mirror)");
 }
 
-// Image files are read when the scene is parsed, relative to the working directory.
-std::shared_ptr<const Image> load_image_file(const Node& n) {
+// Image files are read when the scene is parsed, from where `files` allows.
+std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& files) {
   std::string path = n.string();
+  std::filesystem::path resolved;
   try {
-    auto image = std::make_shared<const Image>(read_image(path));
+    resolved = files.resolve(path);
+  } catch (const std::invalid_argument& e) {
+    n.fail(e.what());
+  }
+  try {
+    auto image = std::make_shared<const Image>(read_image(resolved));
     if (image->width < 1 || image->height < 1) n.fail("image \"" + path + "\" is empty");
     return image;
   } catch (const SceneError&) {
@@ -196,7 +203,7 @@ std::shared_ptr<const Image> load_image_file(const Node& n) {
   }
 }
 
-ColorTexture parse_texture(const Node& n) {
+ColorTexture parse_texture(const Node& n, const ImageFiles& files) {
   std::string type = n["type"].string();
   ColorTexture t;
   if (type == "checker") {
@@ -208,7 +215,7 @@ ColorTexture parse_texture(const Node& n) {
   } else if (type == "image") {
     n.allow_only({"type", "file", "wrap", "scale", "offset"}, "image texture");
     t.kind = ColorTexture::Kind::Image;
-    t.image = load_image_file(n["file"]);
+    t.image = load_image_file(n["file"], files);
     if (auto w = n.get("wrap")) t.wrap = parse_wrap(*w);
   } else {
     n["type"].fail("unknown texture type \"" + type + "\" (expected checker or image)");
@@ -245,7 +252,7 @@ Camera parse_camera(const Node& n) {
   return c;
 }
 
-Material parse_material(const Node& n, const std::string& name) {
+Material parse_material(const Node& n, const std::string& name, const ImageFiles& files) {
   n.allow_only({"reflectance", "emission", "specular", "shininess", "texture"});
   Material m;
   m.name = name;
@@ -255,7 +262,7 @@ Material parse_material(const Node& n, const std::string& name) {
       n["reflectance"].fail(
           "give reflectance or a texture, not both (a texture's mean is the "
           "reflectance)");
-    m.texture = parse_texture(*v);
+    m.texture = parse_texture(*v, files);
     m.reflectance = texture_mean(*m.texture);
     for (int c = 0; c < 3; ++c)
       if (!(m.reflectance[c] < 1))
@@ -273,7 +280,7 @@ Material parse_material(const Node& n, const std::string& name) {
   return m;
 }
 
-BumpFunction parse_bump(const Node& n, const std::string& name) {
+BumpFunction parse_bump(const Node& n, const std::string& name, const ImageFiles& files) {
   static const std::map<std::string, BumpType> kTypes = {
       {"noise", BumpType::Noise},     {"wrinkles", BumpType::Wrinkles},
       {"bricks", BumpType::Bricks},   {"tiles", BumpType::Tiles},
@@ -298,7 +305,7 @@ BumpFunction parse_bump(const Node& n, const std::string& name) {
   if (auto v = n.get("scale")) b.scale = scale_pair(*v);
   if (auto v = n.get("offset")) b.offset = offset_pair(*v);
   if (b.type == BumpType::Image) {
-    b.image = load_image_file(n["file"]);
+    b.image = load_image_file(n["file"], files);
     if (auto v = n.get("wrap")) b.wrap = parse_wrap(*v);
   }
   if (auto v = n.get("octaves")) b.octaves = int(v->integer(1, 12));
@@ -496,7 +503,8 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   }
 }
 
-void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& pointer) {
+void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& pointer,
+                          const ImageFiles& files) {
   Node n(bumps, pointer);
   for (auto it = n.object().begin(); it != bumps.end(); ++it) {
     Node b(*it, pointer + "/" + escape_token(it.key()));
@@ -508,11 +516,11 @@ void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& po
       b.fail("the scene has no bump function of this name (it has: " +
              (names.empty() ? std::string("none") : names) + ")");
     }
-    *known = parse_bump(b, it.key());
+    *known = parse_bump(b, it.key(), files);
   }
 }
 
-Scene parse_scene(const json& document) {
+Scene parse_scene(const json& document, const ImageFiles& files) {
   Node root(document, "");
   root.allow_only({"version", "description", "camera", "materials", "bumps", "objects", "solver"});
   if (auto v = root.get("version"); v && v->integer(1, 1) != 1) v->fail("unsupported version");
@@ -526,7 +534,7 @@ Scene parse_scene(const json& document) {
   for (auto it = materials.object().begin(); it != materials.value().end(); ++it) {
     Node m(*it, materials.pointer() + "/" + escape_token(it.key()));
     material_ids[it.key()] = int(scene.materials.size());
-    scene.materials.push_back(parse_material(m, it.key()));
+    scene.materials.push_back(parse_material(m, it.key(), files));
   }
 
   std::map<std::string, int> bump_ids;
@@ -534,7 +542,7 @@ Scene parse_scene(const json& document) {
     for (auto it = bumps->object().begin(); it != bumps->value().end(); ++it) {
       Node b(*it, bumps->pointer() + "/" + escape_token(it.key()));
       bump_ids[it.key()] = int(scene.bumps.size());
-      scene.bumps.push_back(parse_bump(b, it.key()));
+      scene.bumps.push_back(parse_bump(b, it.key(), files));
     }
 
   Node objects = root["objects"];
@@ -558,7 +566,7 @@ Scene parse_scene(const json& document) {
   return scene;
 }
 
-Scene parse_scene(std::string_view text) {
+Scene parse_scene(std::string_view text, const ImageFiles& files) {
   json document;
   try {
     document = json::parse(text);
@@ -569,7 +577,33 @@ Scene parse_scene(std::string_view text) {
     std::string what = e.what();
     throw SceneError("", "malformed JSON: " + what.substr(what.find(']') + 2));
   }
-  return parse_scene(document);
+  return parse_scene(document, files);
+}
+
+std::filesystem::path ImageFiles::resolve(const std::string& name) const {
+  switch (access) {
+    case Access::WorkingDirectory:
+      return name;
+    case Access::Refused:
+      throw std::invalid_argument(
+          "image files cannot be named here (this server was started without --assets)");
+    case Access::Sandbox:
+      break;
+  }
+  std::filesystem::path relative(name);
+  bool escapes = relative.empty() || relative.is_absolute() || relative.has_root_name();
+  for (const auto& part : relative) escapes = escapes || part == "..";
+  if (escapes)
+    throw std::invalid_argument("\"" + name +
+                                "\" must be a path inside the asset directory, without \"..\"");
+  // Symbolic links inside the sandbox must not lead out of it either.
+  std::error_code error;
+  auto base = std::filesystem::weakly_canonical(root, error);
+  auto full = std::filesystem::weakly_canonical(root / relative, error);
+  auto [b, f] = std::mismatch(base.begin(), base.end(), full.begin(), full.end());
+  if (error || b != base.end())
+    throw std::invalid_argument("\"" + name + "\" leads outside the asset directory");
+  return full;
 }
 
 }  // namespace bumprad

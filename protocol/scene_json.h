@@ -2,6 +2,7 @@
 // Scene. Every rejection names the offending field as a JSON pointer and says why.
 #pragma once
 
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -24,9 +25,24 @@ class SceneError : public std::runtime_error {
   std::string pointer_;
 };
 
+// Where a scene's image files (colour textures, height maps) may be read from. The command
+// line reads them relative to the working directory. The server reads them only from its
+// asset directory, or refuses them, so that a request can never name a server path.
+struct ImageFiles {
+  enum class Access { WorkingDirectory, Sandbox, Refused };
+  Access access = Access::WorkingDirectory;
+  std::filesystem::path root;  // the sandbox
+
+  static ImageFiles sandbox(std::filesystem::path dir) { return {Access::Sandbox, std::move(dir)}; }
+  static ImageFiles refused() { return {Access::Refused, {}}; }
+
+  // The file to open for `name`; throws std::invalid_argument saying why it may not be.
+  std::filesystem::path resolve(const std::string& name) const;
+};
+
 // Throws SceneError; never returns a partly valid scene.
-Scene parse_scene(std::string_view json_text);
-Scene parse_scene(const nlohmann::json& document);
+Scene parse_scene(std::string_view json_text, const ImageFiles& files = {});
+Scene parse_scene(const nlohmann::json& document, const ImageFiles& files = {});
 
 // Applies settings overrides given in JSON form ({"max_shots": 50}), with the same checks
 // as a scene's "solver" block; `pointer` prefixes error locations.
@@ -37,6 +53,6 @@ void apply_solver_settings(const nlohmann::json& settings, SolverSettings& out,
 // scene's "bumps" block), e.g. to re-texture with `--bump FILE.json`. Names the scene does
 // not have are refused; `pointer` prefixes error locations.
 void apply_bump_overrides(const nlohmann::json& bumps, Scene& scene,
-                          const std::string& pointer = "");
+                          const std::string& pointer = "", const ImageFiles& files = {});
 
 }  // namespace bumprad

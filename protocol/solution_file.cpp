@@ -101,7 +101,7 @@ void save_solution(const std::filesystem::path& path, std::string_view scene_jso
   write_file_atomically(path, w.bytes());
 }
 
-LoadedSolution load_solution(const std::filesystem::path& path) {
+LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles& files) {
   const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw SolutionFileError(name + ": cannot open the solution file");
@@ -127,7 +127,7 @@ LoadedSolution load_solution(const std::filesystem::path& path) {
   LoadedSolution out;
   out.scene_json = r.get_string();
   try {
-    out.scene = parse_scene(std::string_view(out.scene_json));
+    out.scene = parse_scene(std::string_view(out.scene_json), files);
   } catch (const SceneError& e) {
     throw SolutionFileError(name + ": its scene is invalid: " + e.what());
   }

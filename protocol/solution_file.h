@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "protocol/scene_json.h"
 #include "solver/scene.h"
 #include "solver/solution.h"
 
@@ -30,6 +31,7 @@ struct LoadedSolution {
 
 // Throws SolutionFileError naming the file and what is wrong with it: not a solution
 // file, another format version, truncated or corrupt, or inconsistent with its scene.
-LoadedSolution load_solution(const std::filesystem::path& path);
+// The scene's image files are read as `files` allows.
+LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles& files = {});
 
 }  // namespace bumprad

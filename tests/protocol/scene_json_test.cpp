@@ -3,7 +3,9 @@
 #include "protocol/scene_json.h"
 
 #include "solver/image.h"
+#include "tests/test_files.h"
 
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -29,9 +31,10 @@ json minimal() {
 }
 
 // Expects parse_scene to reject `doc` at `pointer` with a message containing `reason`.
-void expect_rejected(const json& doc, const std::string& pointer, const std::string& reason) {
+void expect_rejected(const json& doc, const std::string& pointer, const std::string& reason,
+                     const ImageFiles& files = {}) {
   try {
-    parse_scene(doc);
+    parse_scene(doc, files);
     ADD_FAILURE() << "accepted; expected " << pointer << ": " << reason;
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), pointer) << e.what();
@@ -269,6 +272,35 @@ std::string write_test_image(const std::string& name, float value) {
   for (float& v : img.rgb) v = value;
   write_image(path, img, 1);
   return path;
+}
+
+// The server's policy: files only from inside its asset directory, or none at all.
+TEST(SceneJson, ImageFilesStayInsideTheSandbox) {
+  namespace fs = std::filesystem;
+  fs::path assets = test::fresh_temp_dir("assets");
+  fs::create_directories(assets / "maps");
+  fs::copy_file(write_test_image("inside.png", 0.5), assets / "maps" / "grey.png");
+  fs::path outside = write_test_image("outside.png", 0.5);
+  fs::create_symlink(outside, assets / "link.png");
+  json d = minimal();
+  d["objects"][0]["material"] = "floor";
+  auto with_file = [&](const std::string& file) {
+    d["materials"]["floor"] = {{"texture", {{"type", "image"}, {"file", file}}}};
+    return d;
+  };
+  const ImageFiles sandbox = ImageFiles::sandbox(assets);
+  Scene s = parse_scene(with_file("maps/grey.png"), sandbox);
+  EXPECT_NEAR(s.materials[std::size_t(s.objects[0].material)].reflectance.g, 0.5, 0.01);
+  const std::string field = "/materials/floor/texture/file";
+  expect_rejected(with_file("../outside.png"), field, "without \"..\"", sandbox);
+  expect_rejected(with_file("maps/../../outside.png"), field, "without \"..\"", sandbox);
+  expect_rejected(with_file(outside.string()), field, "inside the asset directory", sandbox);
+  expect_rejected(with_file("link.png"), field, "leads outside the asset directory", sandbox);
+  expect_rejected(with_file("maps/none.png"), field, "cannot read image", sandbox);
+  expect_rejected(with_file("maps/grey.png"), field, "cannot be named here", ImageFiles::refused());
+  d["materials"]["floor"] = {{"reflectance", 0.5}};
+  d["bumps"] = {{"h", {{"type", "image"}, {"file", "maps/grey.png"}}}};
+  expect_rejected(d, "/bumps/h/file", "cannot be named here", ImageFiles::refused());
 }
 
 TEST(SceneJson, ColourTextures) {
