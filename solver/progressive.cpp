@@ -274,13 +274,14 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
   return visible * mean;
 }
 
-void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step) {
+void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step,
+                            std::stop_token stop) {
   const int every = std::max(1, settings_.preview_every);
-  while (!done()) {
+  while (!done() && !stop.stop_requested()) {
     if (!shoot()) break;
     if (on_step && shots_ % every == 0 && !done() && !on_step(snapshot())) return;
   }
-  if (on_step) on_step(snapshot());
+  if (on_step && !stop.stop_requested()) on_step(snapshot());
 }
 
 std::vector<Rgb> ProgressiveSolver::display_radiosity() const {

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <random>
+#include <stop_token>
 #include <vector>
 
 #include "solver/hemicube.h"
@@ -58,8 +59,9 @@ class ProgressiveSolver {
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;
   // Shoots until done(); calls on_step after every `preview_every` shots and at the end.
-  // on_step returning false stops the solve early (a cancelled job).
-  void run(const std::function<bool(const Snapshot&)>& on_step = {});
+  // on_step returning false stops the solve early; so does `stop`, checked after every
+  // shot (a cancelled job stops within one shot). No final call is made after a stop.
+  void run(const std::function<bool(const Snapshot&)>& on_step = {}, std::stop_token stop = {});
 
   int shots() const { return shots_; }
   double unshot_fraction() const;

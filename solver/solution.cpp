@@ -1,13 +1,12 @@
 #include "solver/solution.h"
 
-
 #include "solver/stopwatch.h"
 #include "solver/view_pass.h"
 
 namespace bumprad {
 namespace {}  // namespace
 
-Solution solve(const Scene& scene, const StepCallback& on_step) {
+Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token stop) {
   auto t0 = Clock::now();
   Solution out;
   out.mesh = std::make_unique<Mesh>(build_mesh(scene));
@@ -20,17 +19,22 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   ProgressiveSolver solver(mesh, scene.materials, scene.solver);
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
-  solver.run([&](const Snapshot& s) {
-    if (!on_step) return true;
-    if (mode == TextureMode::Shoot) {
-      auto t = Clock::now();
-      out.map->finish_shooting(scene.materials);
-      texture_s += seconds_since(t);
-    }
-    return on_step(s, out);
-  });
+  solver.run(
+      [&](const Snapshot& s) {
+        if (!on_step) return true;
+        if (mode == TextureMode::Shoot) {
+          auto t = Clock::now();
+          out.map->finish_shooting(scene.materials);
+          texture_s += seconds_since(t);
+        }
+        return on_step(s, out);
+      },
+      stop);
   out.radiosity = solver.radiosity();
   out.display = solver.display_radiosity();
+  out.stats.shots = solver.shots();
+  out.stats.unshot_fraction = solver.unshot_fraction();
+  if (stop.stop_requested()) return out;
 
   auto t1 = Clock::now();
   if (mode == TextureMode::Shoot) {
@@ -41,11 +45,9 @@ Solution solve(const Scene& scene, const StepCallback& on_step) {
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;
 
-  out.stats.shots = solver.shots();
   out.stats.elements = mesh.elements.size();
   for (const Element& e : mesh.elements)
     out.stats.non_diffuse_elements += scene.materials[std::size_t(e.material)].specular > 0;
-  out.stats.unshot_fraction = solver.unshot_fraction();
   out.stats.seconds_texture = texture_s;
   out.stats.seconds_solve = seconds_since(t0) - texture_s;
   count_map_stats(scene, out);

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <memory>
+#include <stop_token>
 #include <vector>
 
 #include "solver/image.h"
@@ -30,7 +31,9 @@ struct Solution {
 // the solve; the solution is then what was reached.
 using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 
-Solution solve(const Scene& scene, const StepCallback& on_step = {});
+// `stop` ends the solve within one shot (a cancelled job): the solution is then partial and
+// its map unfinished, and no final step is reported.
+Solution solve(const Scene& scene, const StepCallback& on_step = {}, std::stop_token stop = {});
 
 // The (empty) perturbed map for `scene` on its mesh: null when no object has a bump
 // function or the texture mode is none. Solving and loading a saved solution both use it.

@@ -86,6 +86,31 @@ TEST(Solution, PreviewsShowBumpsFromTheFirstStepWhenShooting) {
   EXPECT_EQ(steps, 60 / 5);
 }
 
+// A cancelled job: the stop is seen after the shot in flight, and no final step follows.
+TEST(Solution, AStopEndsTheSolveWithinOneShot) {
+  Scene s = bumpy_scene(TextureMode::Shoot);
+  s.solver.preview_every = 1;
+  std::stop_source before;
+  before.request_stop();
+  int steps = 0;
+  Solution none = solve(
+      s, [&](const Snapshot&, const Solution&) { return ++steps > 0; }, before.get_token());
+  EXPECT_EQ(none.stats.shots, 0);
+  EXPECT_EQ(steps, 0);
+
+  std::stop_source during;
+  Solution partial = solve(
+      s,
+      [&](const Snapshot& snap, const Solution&) {
+        ++steps;
+        if (snap.shots == 7) during.request_stop();  // from the step, as a server thread would
+        return true;
+      },
+      during.get_token());
+  EXPECT_EQ(partial.stats.shots, 7);
+  EXPECT_EQ(steps, 7);
+}
+
 TEST(Solution, ExtremeTiltsStayFiniteAndNonNegative) {
   // Slopes far beyond the outer ring, and normals tipped below the tangent plane.
   for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
