@@ -225,12 +225,13 @@ ColorTexture parse_texture(const Node& n, const ImageFiles& files) {
   return t;
 }
 
-Camera parse_camera(const Node& n) {
+// A whole camera, or with `base` only the keys that change it.
+Camera parse_camera(const Node& n, const Camera* base = nullptr) {
   n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias",
                 "max_depth", "glossy_samples"});
-  Camera c;
-  c.position = n["position"].vec3();
-  c.look_at = n["look_at"].vec3();
+  Camera c = base ? *base : Camera{};
+  if (!base || n.get("position")) c.position = n["position"].vec3();
+  if (!base || n.get("look_at")) c.look_at = n["look_at"].vec3();
   if (auto v = n.get("up")) c.up = v->vec3();
   if (auto v = n.get("fov_deg")) {
     c.fov_y_deg = v->number();
@@ -566,18 +567,24 @@ Scene parse_scene(const json& document, const ImageFiles& files) {
   return scene;
 }
 
-Scene parse_scene(std::string_view text, const ImageFiles& files) {
-  json document;
+json parse_json(std::string_view text) {
   try {
-    document = json::parse(text);
+    return json::parse(text);
   } catch (const json::parse_error& e) {
-    throw SceneError("", "malformed JSON at byte " + std::to_string(e.byte) + ": " +
-                             std::string(e.what()).substr(std::string(e.what()).find(':') + 2));
+    throw MalformedJson("malformed JSON at byte " + std::to_string(e.byte) + ": " +
+                        std::string(e.what()).substr(std::string(e.what()).find(':') + 2));
   } catch (const json::exception& e) {  // e.g. a number literal beyond double's range
     std::string what = e.what();
-    throw SceneError("", "malformed JSON: " + what.substr(what.find(']') + 2));
+    throw MalformedJson("malformed JSON: " + what.substr(what.find(']') + 2));
   }
-  return parse_scene(document, files);
+}
+
+Scene parse_scene(std::string_view text, const ImageFiles& files) {
+  return parse_scene(parse_json(text), files);
+}
+
+Camera parse_camera_changes(const json& changes, const Camera& base, const std::string& pointer) {
+  return parse_camera(Node(changes, pointer), &base);
 }
 
 std::filesystem::path ImageFiles::resolve(const std::string& name) const {

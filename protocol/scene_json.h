@@ -25,6 +25,12 @@ class SceneError : public std::runtime_error {
   std::string pointer_;
 };
 
+// The text is not JSON at all (HTTP answers 400 for this, 422 for other SceneErrors).
+class MalformedJson : public SceneError {
+ public:
+  explicit MalformedJson(const std::string& reason) : SceneError("", reason) {}
+};
+
 // Where a scene's image files (colour textures, height maps) may be read from. The command
 // line reads them relative to the working directory. The server reads them only from its
 // asset directory, or refuses them, so that a request can never name a server path.
@@ -43,6 +49,14 @@ struct ImageFiles {
 // Throws SceneError; never returns a partly valid scene.
 Scene parse_scene(std::string_view json_text, const ImageFiles& files = {});
 Scene parse_scene(const nlohmann::json& document, const ImageFiles& files = {});
+
+// JSON text to a document; throws MalformedJson saying where and why.
+nlohmann::json parse_json(std::string_view text);
+
+// `base` with the keys of a camera block that `changes` gives, e.g. to re-render from a new
+// view or at another size; with the same checks as a scene's "camera".
+Camera parse_camera_changes(const nlohmann::json& changes, const Camera& base,
+                            const std::string& pointer);
 
 // Applies settings overrides given in JSON form ({"max_shots": 50}), with the same checks
 // as a scene's "solver" block; `pointer` prefixes error locations.

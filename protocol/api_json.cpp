@@ -1,0 +1,255 @@
+#include "protocol/api_json.h"
+
+#include <array>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "protocol/builtin_scenes.h"
+
+namespace bumprad {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr std::array<std::string_view, 6> kStateNames = {"queued", "running",   "done",
+                                                         "failed", "cancelled", "interrupted"};
+
+// Jobs that set no preview_every get about this many refinement steps.
+constexpr int kDefaultSteps = 20;
+
+// A SceneError from a part of the request, relocated to where that part sits in it.
+[[noreturn]] void rethrow_under(const SceneError& e, const std::string& prefix) {
+  std::string what = e.what();
+  throw SceneError(prefix + e.pointer(), what.substr(what.find(": ") + 2));
+}
+
+void require_object(const json& value, const std::string& pointer, const char* what) {
+  if (!value.is_object()) throw SceneError(pointer, std::string("must be ") + what);
+}
+
+void allow_only(const json& body, std::initializer_list<std::string_view> keys, const char* what) {
+  for (auto it = body.begin(); it != body.end(); ++it)
+    if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) {
+      std::string list;
+      for (std::string_view k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+      throw SceneError("/" + it.key(),
+                       std::string("unknown key for ") + what + " (expected one of: " + list + ")");
+    }
+}
+
+}  // namespace
+
+std::string_view to_string(JobState state) {
+  return kStateNames[std::size_t(state)];
+}
+
+std::optional<JobState> job_state_from(std::string_view name) {
+  for (std::size_t i = 0; i < kStateNames.size(); ++i)
+    if (kStateNames[i] == name) return JobState(i);
+  return std::nullopt;
+}
+
+bool is_finished(JobState state) {
+  return state != JobState::Queued && state != JobState::Running;
+}
+
+std::string job_url(const std::string& id) {
+  return "/v1/jobs/" + id;
+}
+
+std::string step_url(const std::string& id, int step) {
+  return job_url(id) + "/steps/" + std::to_string(step) + ".png";
+}
+
+namespace {
+
+json job_document(const JobRecord& j) {
+  const std::string self = job_url(j.id);
+  json links = {{"self", self},
+                {"preview", self + "/preview"},
+                {"stream", self + "/stream"},
+                {"events", self + "/events"}};
+  if (j.state == JobState::Done) {
+    links["image"] = self + "/image";
+    links["retexture"] = self + "/retexture";
+  }
+  json d = {{"id", j.id},
+            {"state", to_string(j.state)},
+            {"scene", j.scene_name},
+            {"created_at", j.created},
+            {"started_at", j.started},
+            {"finished_at", j.finished},
+            {"shots", j.shots},
+            {"max_shots", j.max_shots},
+            {"preview_every", j.preview_every},
+            {"unshot_fraction", j.unshot_fraction},
+            {"step", j.step},
+            {"first_kept_step", j.first_kept_step},
+            {"elements", j.elements},
+            {"patches", j.patches},
+            {"timings",
+             {{"solve_s", j.seconds_solve},
+              {"texture_s", j.seconds_texture},
+              {"previews_s", j.seconds_previews}}},
+            {"links", links}};
+  if (j.step > 0) d["latest_step_url"] = step_url(j.id, j.step);
+  if (!j.error.empty()) d["error"] = j.error;
+  return d;
+}
+
+}  // namespace
+
+std::string job_to_json(const JobRecord& job) {
+  return job_document(job).dump();
+}
+
+std::string jobs_to_json(const std::vector<JobRecord>& jobs) {
+  json list = json::array();
+  for (const JobRecord& j : jobs) list.push_back(job_document(j));
+  return json{{"jobs", list}}.dump();
+}
+
+JobRecord job_from_json(std::string_view text) {
+  json d = parse_json(text);
+  JobRecord j;
+  try {
+    j.id = d.at("id").get<std::string>();
+    auto state = job_state_from(d.at("state").get<std::string>());
+    if (!state) throw SceneError("/state", "unknown job state");
+    j.state = *state;
+    j.scene_name = d.at("scene").get<std::string>();
+    j.created = d.at("created_at").get<double>();
+    j.started = d.at("started_at").get<double>();
+    j.finished = d.at("finished_at").get<double>();
+    j.shots = d.at("shots").get<int>();
+    j.max_shots = d.at("max_shots").get<int>();
+    j.preview_every = d.at("preview_every").get<int>();
+    j.unshot_fraction = d.at("unshot_fraction").get<double>();
+    j.step = d.at("step").get<int>();
+    j.first_kept_step = d.at("first_kept_step").get<int>();
+    j.elements = d.at("elements").get<std::size_t>();
+    j.patches = d.at("patches").get<std::size_t>();
+    const json& t = d.at("timings");
+    j.seconds_solve = t.at("solve_s").get<double>();
+    j.seconds_texture = t.at("texture_s").get<double>();
+    j.seconds_previews = t.at("previews_s").get<double>();
+    j.error = d.value("error", "");
+  } catch (const json::exception& e) {
+    throw SceneError("", std::string("not a job record: ") + e.what());
+  }
+  return j;
+}
+
+std::string step_event_json(const JobRecord& j) {
+  return json{{"step", j.step},
+              {"shots", j.shots},
+              {"max_shots", j.max_shots},
+              {"unshot_fraction", j.unshot_fraction},
+              {"preview", step_url(j.id, j.step)}}
+      .dump();
+}
+
+JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
+  json request = parse_json(body);
+  require_object(request, "", "a JSON object");
+  allow_only(request, {"scene", "builtin", "bumps", "solver", "preview_every"}, "a job");
+
+  JobRequest out;
+  json scene;
+  std::string prefix;
+  if (request.contains("scene") == request.contains("builtin"))
+    throw SceneError("/scene", "give either \"scene\" (inline JSON) or \"builtin\" (a name)");
+  if (request.contains("builtin")) {
+    const json& name = request["builtin"];
+    if (!name.is_string()) throw SceneError("/builtin", "must be a string");
+    auto text = find_builtin_scene(name.get<std::string>());
+    if (!text) {
+      std::string names;
+      for (const auto& s : builtin_scenes())
+        names += (names.empty() ? "" : ", ") + std::string(s.name);
+      throw SceneError("/builtin", "unknown built-in scene \"" + name.get<std::string>() +
+                                       "\" (there are: " + names + ")");
+    }
+    scene = json::parse(*text);
+    out.scene_name = "builtin:" + name.get<std::string>();
+  } else {
+    scene = request["scene"];
+    require_object(scene, "/scene", "a scene object");
+    out.scene_name = "inline";
+    prefix = "/scene";
+  }
+
+  // Each override is checked where the request has it, then merged into the scene, so the
+  // stored scene JSON alone reproduces the job.
+  try {
+    out.scene = parse_scene(scene, files);
+  } catch (const SceneError& e) {
+    rethrow_under(e, prefix);
+  }
+  if (request.contains("bumps")) {
+    const json& bumps = request["bumps"];
+    require_object(bumps, "/bumps", "an object of bump functions by name");
+    apply_bump_overrides(bumps, out.scene, "/bumps", files);
+    for (auto it = bumps.begin(); it != bumps.end(); ++it) scene["bumps"][it.key()] = it.value();
+  }
+  json settings = request.value("solver", json::object());
+  require_object(settings, "/solver", "an object of solver settings");
+  apply_solver_settings(settings, out.scene.solver, "/solver");
+  if (request.contains("preview_every")) {
+    json every = {{"preview_every", request["preview_every"]}};
+    apply_solver_settings(every, out.scene.solver, "");
+    settings["preview_every"] = request["preview_every"];
+  }
+  bool scene_sets_preview = scene.contains("solver") && scene["solver"].contains("preview_every");
+  if (!settings.contains("preview_every") && !scene_sets_preview) {
+    settings["preview_every"] =
+        std::max(1, int(std::ceil(double(out.scene.solver.max_shots) / kDefaultSteps)));
+    out.scene.solver.preview_every = settings["preview_every"].get<int>();
+  }
+  if (!settings.empty()) {
+    if (!scene.contains("solver")) scene["solver"] = json::object();
+    scene["solver"].update(settings);
+  }
+  out.scene_json = scene.dump(2);
+  return out;
+}
+
+RetextureRequest parse_retexture_request(std::string_view body, const Scene& solved,
+                                         const ImageFiles& files) {
+  json request = body.empty() ? json::object() : parse_json(body);
+  require_object(request, "", "a JSON object");
+  allow_only(request, {"bumps", "camera", "format"}, "a re-texture request");
+  RetextureRequest out{solved, ImageFormat::Png};
+  if (request.contains("bumps")) {
+    require_object(request["bumps"], "/bumps", "an object of bump functions by name");
+    apply_bump_overrides(request["bumps"], out.scene, "/bumps", files);
+  }
+  if (request.contains("camera"))
+    out.scene.camera = parse_camera_changes(request["camera"], solved.camera, "/camera");
+  if (request.contains("format")) {
+    const json& f = request["format"];
+    if (f == "exr")
+      out.format = ImageFormat::Exr;
+    else if (f != "png")
+      throw SceneError("/format", "must be \"png\" or \"exr\"");
+  }
+  return out;
+}
+
+std::string builtin_scenes_json() {
+  json list = json::array();
+  for (const auto& s : builtin_scenes())
+    list.push_back(
+        {{"name", s.name}, {"description", json::parse(s.json).value("description", "")}});
+  return json{{"scenes", list}}.dump();
+}
+
+std::string problem_json(int status, std::string_view title, std::string_view detail,
+                         std::string_view field) {
+  json p = {{"type", "about:blank"}, {"title", title}, {"status", status}, {"detail", detail}};
+  if (!field.empty()) p["field"] = field;
+  return p.dump();
+}
+
+}  // namespace bumprad

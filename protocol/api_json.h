@@ -1,0 +1,82 @@
+// The HTTP API's JSON (protocol/openapi.json): job requests to validated scenes, job records
+// to the JSON the API answers and the server keeps on disk, progress events, re-texture
+// requests and problem details. Every rejection is a SceneError naming the request's field.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "protocol/scene_json.h"
+#include "solver/image.h"
+#include "solver/scene.h"
+
+namespace bumprad {
+
+enum class JobState { Queued, Running, Done, Failed, Cancelled, Interrupted };
+
+std::string_view to_string(JobState state);
+std::optional<JobState> job_state_from(std::string_view name);
+// Done, failed, cancelled and interrupted jobs do no more work.
+bool is_finished(JobState state);
+
+// What the server knows of one job. Times are Unix seconds; 0 means not yet.
+struct JobRecord {
+  std::string id;
+  JobState state = JobState::Queued;
+  std::string scene_name;  // "builtin:NAME" or "inline"
+  double created = 0, started = 0, finished = 0;
+  int shots = 0, max_shots = 0, preview_every = 0;
+  double unshot_fraction = 1;
+  int step = 0;             // the latest refinement step with a preview; 0: none yet
+  int first_kept_step = 0;  // older step previews have been dropped
+  std::size_t elements = 0, patches = 0;
+  double seconds_solve = 0, seconds_texture = 0, seconds_previews = 0;
+  std::string error;  // why the job failed or was interrupted
+};
+
+std::string job_url(const std::string& id);
+std::string step_url(const std::string& id, int step);
+
+// The API's view of a job, with links to its resources. The server stores the same JSON.
+std::string job_to_json(const JobRecord& job);
+// Reads a stored record back. Throws MalformedJson or SceneError.
+JobRecord job_from_json(std::string_view text);
+// A JSON array of jobs, for GET /v1/jobs.
+std::string jobs_to_json(const std::vector<JobRecord>& jobs);
+
+// One refinement step, for the event stream: its number, progress and preview URL.
+std::string step_event_json(const JobRecord& job);
+
+struct JobRequest {
+  Scene scene;
+  std::string scene_json;  // the scene with the request's overrides merged in: what is solved
+  std::string scene_name;  // for JobRecord::scene_name
+};
+
+// POST /v1/jobs: {"scene": {..}} or {"builtin": NAME}, optional "bumps" (replacing the
+// scene's by name), "solver" (settings) and "preview_every". Without a preview_every here or
+// in the scene, a job previews about 20 steps. Throws MalformedJson or SceneError whose
+// pointer is into the request ("/scene/objects/0/size", "/bumps/wall/amplitude").
+JobRequest parse_job_request(std::string_view body, const ImageFiles& files);
+
+struct RetextureRequest {
+  Scene scene;  // the solved scene with the new bump functions and camera
+  ImageFormat format = ImageFormat::Png;
+};
+
+// POST /v1/jobs/{id}/retexture: optional "bumps" (by name), "camera" (the keys of a camera
+// block to change) and "format" ("png" or "exr") applied to the solved scene. Geometry cannot
+// change, so the stored perturbed map stays valid.
+RetextureRequest parse_retexture_request(std::string_view body, const Scene& solved,
+                                         const ImageFiles& files);
+
+// GET /v1/scenes: the built-in scenes, by name and description.
+std::string builtin_scenes_json();
+
+// RFC 9457 problem details; `field` (a JSON pointer) is added when the problem has one.
+std::string problem_json(int status, std::string_view title, std::string_view detail,
+                         std::string_view field = {});
+
+}  // namespace bumprad

@@ -1,0 +1,129 @@
+// The HTTP API's JSON: job requests merge their overrides into the stored scene and name the
+// request's own fields when they are wrong; job records survive a round trip to disk.
+#include "protocol/api_json.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace bumprad {
+namespace {
+
+using json = nlohmann::json;
+
+void expect_rejected(const json& request, const std::string& pointer, const std::string& reason) {
+  try {
+    parse_job_request(request.dump(), ImageFiles::refused());
+    ADD_FAILURE() << "accepted; expected " << pointer << ": " << reason;
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), pointer) << e.what();
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+  }
+}
+
+TEST(ApiJson, BuiltinJobWithOverridesStoresTheSceneItSolves) {
+  json request = {{"builtin", "wrinkled-box"},
+                  {"bumps", {{"wrinkles", {{"type", "dimples"}, {"amplitude", 0.02}}}}},
+                  {"solver", {{"max_shots", 40}}},
+                  {"preview_every", 8}};
+  JobRequest job = parse_job_request(request.dump(), ImageFiles::refused());
+  EXPECT_EQ(job.scene_name, "builtin:wrinkled-box");
+  EXPECT_EQ(job.scene.solver.max_shots, 40);
+  EXPECT_EQ(job.scene.solver.preview_every, 8);
+  ASSERT_EQ(job.scene.bumps.size(), 1u);
+  EXPECT_EQ(job.scene.bumps[0].type, BumpType::Dimples);
+
+  // The stored text alone gives the same scene: what a restarted server re-loads.
+  Scene again = parse_scene(std::string_view(job.scene_json));
+  EXPECT_EQ(again.solver.max_shots, 40);
+  EXPECT_EQ(again.solver.preview_every, 8);
+  EXPECT_EQ(again.solver.unshot_fraction, job.scene.solver.unshot_fraction);
+  EXPECT_EQ(again.bumps[0].type, BumpType::Dimples);
+  EXPECT_EQ(again.bumps[0].amplitude, 0.02);
+}
+
+TEST(ApiJson, JobsWithoutPreviewEveryGetAboutTwentySteps) {
+  JobRequest job = parse_job_request(R"({"builtin": "cornell", "solver": {"max_shots": 90}})",
+                                     ImageFiles::refused());
+  EXPECT_EQ(job.scene.solver.preview_every, 5);  // ceil(90 / 20)
+  EXPECT_EQ(parse_scene(std::string_view(job.scene_json)).solver.preview_every, 5);
+}
+
+TEST(ApiJson, RejectionsNameTheRequestsField) {
+  EXPECT_THROW(parse_job_request("{\"builtin\": ", ImageFiles::refused()), MalformedJson);
+  expect_rejected(json::array(), "", "must be a JSON object");
+  expect_rejected({{"builtin", "cornell"}, {"colour", 1}}, "/colour", "unknown key for a job");
+  expect_rejected({{"builtin", "attic"}}, "/builtin", "unknown built-in scene \"attic\"");
+  expect_rejected(json::object(), "/scene", "give either");
+  expect_rejected({{"scene", 3}}, "/scene", "must be a scene object");
+  json scene = json::parse(
+      R"({"camera": {"position": [0,0,-5], "look_at": [0,0,0]}, "materials": {"m": {"reflectance": 0.5}},
+      "objects": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[1,1,0]]}]})");
+  expect_rejected({{"scene", scene}}, "/scene/objects/0/vertices", "exactly 4 entries");
+  expect_rejected({{"builtin", "wrinkled-box"}, {"bumps", {{"ripples", {{"type", "noise"}}}}}},
+                  "/bumps/ripples", "no bump function of this name");
+  expect_rejected({{"builtin", "cornell"}, {"solver", {{"max_shots", 0}}}}, "/solver/max_shots",
+                  "");
+  expect_rejected({{"builtin", "cornell"}, {"preview_every", "often"}}, "/preview_every", "");
+}
+
+TEST(ApiJson, JobRecordsRoundTrip) {
+  JobRecord j;
+  j.id = "0123abcd";
+  j.state = JobState::Interrupted;
+  j.scene_name = "inline";
+  j.created = 1.7e9;
+  j.started = 1.7e9 + 1;
+  j.shots = 40;
+  j.max_shots = 100;
+  j.preview_every = 10;
+  j.unshot_fraction = 0.25;
+  j.step = 4;
+  j.first_kept_step = 2;
+  j.elements = 1234;
+  j.patches = 321;
+  j.seconds_solve = 1.5;
+  j.error = "the server stopped while the job ran";
+  JobRecord back = job_from_json(job_to_json(j));
+  EXPECT_EQ(job_to_json(back), job_to_json(j));
+  json d = json::parse(job_to_json(j));
+  EXPECT_EQ(d["state"], "interrupted");
+  EXPECT_EQ(d["latest_step_url"], "/v1/jobs/0123abcd/steps/4.png");
+  EXPECT_FALSE(d["links"].contains("image")) << "only done jobs link their image";
+  EXPECT_THROW(job_from_json(R"({"id": "x"})"), SceneError);
+}
+
+TEST(ApiJson, RetextureRequests) {
+  Scene solved = parse_job_request(R"({"builtin": "wrinkled-box"})", ImageFiles::refused()).scene;
+  RetextureRequest r = parse_retexture_request(
+      R"({"bumps": {"wrinkles": {"type": "bricks"}}, "camera": {"width": 64, "height": 48},
+          "format": "exr"})",
+      solved, ImageFiles::refused());
+  EXPECT_EQ(r.scene.bumps[0].type, BumpType::Bricks);
+  EXPECT_EQ(r.scene.camera.width, 64);
+  EXPECT_EQ(r.format, ImageFormat::Exr);
+  EXPECT_EQ(parse_retexture_request("", solved, ImageFiles::refused()).format, ImageFormat::Png);
+  try {
+    parse_retexture_request(R"({"format": "tiff"})", solved, ImageFiles::refused());
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/format");
+  }
+  try {
+    parse_retexture_request(R"({"camera": {"width": -1}})", solved, ImageFiles::refused());
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/camera/width");
+  }
+}
+
+TEST(ApiJson, ProblemDetails) {
+  json p = json::parse(problem_json(422, "Invalid scene", "/x: bad", "/x"));
+  EXPECT_EQ(p["status"], 422);
+  EXPECT_EQ(p["title"], "Invalid scene");
+  EXPECT_EQ(p["field"], "/x");
+  EXPECT_FALSE(json::parse(problem_json(404, "Not found", "no route"))["field"].is_string());
+  EXPECT_GE(json::parse(builtin_scenes_json())["scenes"].size(), 3u);
+}
+
+}  // namespace
+}  // namespace bumprad
