@@ -1,5 +1,5 @@
-// bumprad: the command line. `render` solves a scene and writes its image; `scenes` lists
-// the built-in scenes.
+// bumprad: the command line. `render` solves a scene and writes its image, `retexture`
+// re-renders a saved solution, `serve` runs the HTTP service, `scenes` lists the built-ins.
 #include <cstdio>
 #include <iostream>
 #include <string_view>
@@ -7,6 +7,7 @@
 
 #include "cli/render_command.h"
 #include "cli/retexture_command.h"
+#include "cli/serve_command.h"
 #include "protocol/builtin_scenes.h"
 
 namespace {
@@ -17,6 +18,7 @@ constexpr const char* kHelp =
     "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
     "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
+    "  bumprad serve [--port P] [--data-dir DIR] ...   the HTTP service (serve --help)\n"
     "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
     "  bumprad --help\n";
 
@@ -32,6 +34,7 @@ int main(int argc, char** argv) {
   std::span<const std::string_view> rest(args.data() + 1, args.size() - 1);
   if (command == "render") return bumprad::render_command(rest);
   if (command == "retexture") return bumprad::retexture_command(rest);
+  if (command == "serve") return bumprad::serve_command(rest);
   if (command == "scenes") {
     for (const auto& s : bumprad::builtin_scenes()) std::cout << s.name << "\n";
     return 0;

@@ -1,0 +1,104 @@
+#include "cli/serve_command.h"
+
+#include <charconv>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+
+#include "server/server.h"
+
+namespace bumprad {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: bumprad serve [--bind ADDR] [--port P] [--data-dir DIR] [--workers N]\n"
+    "                     [--max-queue Q] [--assets DIR] [--keep-steps K] [--max-jobs J]\n"
+    "                     [--max-bytes B] [--body-limit B]\n"
+    "  --bind 127.0.0.1     address to listen on (0.0.0.0 for every interface)\n"
+    "  --port 8080          0 picks a free port, printed at start\n"
+    "  --data-dir DIR       jobs, solutions and images (default ./bumprad-data)\n"
+    "  --workers 1          jobs solved at once\n"
+    "  --max-queue 16       waiting jobs before POST /v1/jobs answers 429\n"
+    "  --assets DIR         image files scenes may name (default: none may be named)\n"
+    "  --keep-steps 64      newest step previews kept per job\n"
+    "  --max-jobs 500       finished jobs kept (least recently used evicted first)\n"
+    "  --max-bytes 4G       their files in all (suffixes K, M, G)\n"
+    "  --body-limit 8M      largest request body accepted\n";
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// A count or size with an optional K/M/G suffix, at least `min`.
+std::uintmax_t parse_amount(std::string_view flag, std::string_view text, std::uintmax_t min,
+                            bool suffixes) {
+  std::uintmax_t value = 0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  std::string_view rest(end, std::size_t(text.data() + text.size() - end));
+  int shift = rest == "K" ? 10 : rest == "M" ? 20 : rest == "G" ? 30 : rest.empty() ? 0 : -1;
+  if (ec != std::errc() || shift < 0 || (shift && !suffixes) || value > (UINTMAX_MAX >> shift) ||
+      (value << shift) < min)
+    throw UsageError(std::string(flag) + ": \"" + std::string(text) + "\" is not " +
+                     (suffixes ? "a size" : "a whole number") + " of at least " +
+                     std::to_string(min));
+  return value << shift;
+}
+
+ServerOptions parse_args(std::span<const std::string_view> args) {
+  ServerOptions o;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    std::string_view flag = args[i];
+    if (i + 1 >= args.size())
+      throw UsageError("unknown option or missing value: " + std::string(flag));
+    std::string_view v = args[++i];
+    if (flag == "--bind")
+      o.bind = v;
+    else if (flag == "--port") {
+      std::uintmax_t port = parse_amount(flag, v, 0, false);
+      if (port > 65535) throw UsageError("--port: at most 65535");
+      o.port = static_cast<unsigned short>(port);
+    } else if (flag == "--data-dir")
+      o.data_dir = v;
+    else if (flag == "--workers")
+      o.queue.workers = int(std::min<std::uintmax_t>(64, parse_amount(flag, v, 1, false)));
+    else if (flag == "--max-queue")
+      o.queue.max_queue = parse_amount(flag, v, 1, false);
+    else if (flag == "--assets")
+      o.queue.files = ImageFiles::sandbox(v);
+    else if (flag == "--keep-steps")
+      o.queue.keep_steps = int(std::min<std::uintmax_t>(100000, parse_amount(flag, v, 1, false)));
+    else if (flag == "--max-jobs")
+      o.queue.max_jobs = parse_amount(flag, v, 1, false);
+    else if (flag == "--max-bytes")
+      o.queue.max_bytes = parse_amount(flag, v, 1, true);
+    else if (flag == "--body-limit")
+      o.body_limit = parse_amount(flag, v, 1024, true);
+    else
+      throw UsageError("unknown option " + std::string(flag));
+  }
+  return o;
+}
+
+}  // namespace
+
+int serve_command(std::span<const std::string_view> args) {
+  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
+    std::cout << kUsage;
+    return 0;
+  }
+  ServerOptions options;
+  try {
+    options = parse_args(args);
+  } catch (const UsageError& e) {
+    std::cerr << "bumprad serve: " << e.what() << "\n" << kUsage;
+    return 2;
+  }
+  try {
+    return run_server(options);
+  } catch (const std::exception& e) {
+    std::cerr << "bumprad serve: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace bumprad

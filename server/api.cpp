@@ -1,0 +1,261 @@
+#include "server/api.h"
+
+#include <charconv>
+#include <optional>
+#include <vector>
+
+#include "protocol/api_json.h"
+#include "server/web_assets.h"
+#include "solver/solution.h"
+
+namespace bumprad {
+namespace {
+
+std::vector<std::string_view> split_path(std::string_view path) {
+  std::vector<std::string_view> parts;
+  while (!path.empty()) {
+    auto slash = path.find('/');
+    if (slash != 0) parts.push_back(path.substr(0, slash));
+    if (slash == std::string_view::npos) break;
+    path.remove_prefix(slash + 1);
+  }
+  return parts;
+}
+
+// The value of `key` in a query string ("format=png&x=1"); our values need no decoding.
+std::optional<std::string_view> query_value(std::string_view query, std::string_view key) {
+  while (!query.empty()) {
+    auto amp = query.find('&');
+    std::string_view pair = query.substr(0, amp);
+    if (pair.substr(0, pair.find('=')) == key)
+      return pair.find('=') == std::string_view::npos ? "" : pair.substr(pair.find('=') + 1);
+    if (amp == std::string_view::npos) break;
+    query.remove_prefix(amp + 1);
+  }
+  return std::nullopt;
+}
+
+std::optional<int> to_int(std::string_view s) {
+  int v = 0;
+  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+Response answer(const Request& request, http::status status, std::string_view content_type,
+                std::string body) {
+  Response res{status, request.version()};
+  res.set(http::field::server, "bumprad");
+  res.set(http::field::content_type, content_type);
+  res.keep_alive(request.keep_alive());
+  res.body() = std::move(body);
+  res.prepare_payload();
+  return res;
+}
+
+Response json_answer(const Request& request, http::status status, std::string body) {
+  return answer(request, status, "application/json", std::move(body));
+}
+
+Response png_answer(const Request& request, std::string png, int step, bool immutable) {
+  Response res = answer(request, http::status::ok, "image/png", std::move(png));
+  res.set("X-Bumprad-Step", std::to_string(step));
+  res.set(http::field::cache_control,
+          immutable ? "public, max-age=31536000, immutable" : "no-cache");
+  return res;
+}
+
+Response method_not_allowed(const Request& request, std::string_view allowed) {
+  Response res = problem(
+      request, http::status::method_not_allowed, "Method not allowed",
+      std::string(request.method_string()) + " is not allowed here; use " + std::string(allowed));
+  res.set(http::field::allow, allowed);
+  return res;
+}
+
+Response scene_problem(const Request& request, const SceneError& e) {
+  bool malformed = dynamic_cast<const MalformedJson*>(&e) != nullptr;
+  return problem(
+      request, malformed ? http::status::bad_request : http::status::unprocessable_entity,
+      malformed ? "Malformed JSON" : "Invalid request", e.what(),
+      malformed ? std::string_view{} : std::string_view(e.pointer().empty() ? "/" : e.pointer()));
+}
+
+}  // namespace
+
+Response problem(const Request& request, http::status status, std::string_view title,
+                 std::string_view detail, std::string_view field) {
+  return answer(request, status, "application/problem+json",
+                problem_json(int(status), title, detail, field));
+}
+
+Routed Api::handle(const Request& request) {
+  try {
+    return route(request);
+  } catch (const std::exception& e) {
+    return {"(error)",
+            problem(request, http::status::internal_server_error, "Internal error", e.what())};
+  }
+}
+
+Routed Api::route(const Request& request) {
+  std::string_view target = request.target();
+  std::string_view path = target.substr(0, target.find('?'));
+  std::string_view query =
+      target.find('?') == std::string_view::npos ? "" : target.substr(target.find('?') + 1);
+  const auto parts = split_path(path);
+  const http::verb method = request.method();
+  const bool get = method == http::verb::get;
+
+  if (auto asset = find_web_asset(path)) {
+    if (!get) return {std::string(path), method_not_allowed(request, "GET")};
+    std::string type(asset->content_type);
+    if (type.starts_with("text/")) type += "; charset=utf-8";
+    return {std::string(path), answer(request, http::status::ok, type, std::string(asset->body))};
+  }
+  if (path == "/healthz") {
+    if (!get) return {"/healthz", method_not_allowed(request, "GET")};
+    return {"/healthz", json_answer(request, http::status::ok, R"({"status":"ok"})")};
+  }
+  if (path == "/metrics") {
+    if (!get) return {"/metrics", method_not_allowed(request, "GET")};
+    return {"/metrics", answer(request, http::status::ok, "text/plain; version=0.0.4",
+                               metrics_.prometheus(queue_.gauges()))};
+  }
+  if (path == "/v1/scenes") {
+    if (!get) return {"/v1/scenes", method_not_allowed(request, "GET")};
+    return {"/v1/scenes", json_answer(request, http::status::ok, builtin_scenes_json())};
+  }
+  if (path == "/v1/jobs") {
+    if (get)
+      return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(queue_.list()))};
+    if (method != http::verb::post) return {"/v1/jobs", method_not_allowed(request, "GET, POST")};
+    try {
+      JobRequest job_request = parse_job_request(request.body(), queue_.files());
+      auto job = queue_.submit(job_request);
+      Response res = json_answer(request, http::status::accepted, job_to_json(job->record()));
+      res.set(http::field::location, job_url(job->record().id));
+      return {"/v1/jobs", std::move(res)};
+    } catch (const SceneError& e) {
+      return {"/v1/jobs", scene_problem(request, e)};
+    } catch (const QueueFull& e) {
+      Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
+      res.set(http::field::retry_after, "5");
+      return {"/v1/jobs", std::move(res)};
+    }
+  }
+
+  if (parts.size() < 3 || parts[0] != "v1" || parts[1] != "jobs")
+    return {"(unknown)", problem(request, http::status::not_found, "Not found",
+                                 "no such resource: " + std::string(path))};
+  const std::string id(parts[2]);
+  std::shared_ptr<Job> job = JobStore::is_valid_id(id) ? queue_.find(id) : nullptr;
+  const std::string sub = parts.size() > 3 ? std::string(parts[3]) : "";
+  const std::string route = "/v1/jobs/{id}" + (sub.empty() ? "" : "/" + sub);
+  auto not_found = [&] {
+    return Routed{route, problem(request, http::status::not_found, "Not found",
+                                 "no job with id \"" + id + "\"")};
+  };
+  if (!job || parts.size() > 5 || (parts.size() == 5 && sub != "steps")) return not_found();
+  const JobRecord record = job->record();
+  auto not_done = [&](std::string_view what) {
+    return Routed{route, problem(request, http::status::conflict, "Job not done",
+                                 "job " + id + " is " + std::string(to_string(record.state)) +
+                                     "; " + std::string(what) + " exists only for done jobs")};
+  };
+
+  if (sub.empty()) {
+    if (get) return {route, json_answer(request, http::status::ok, job_to_json(record))};
+    if (method != http::verb::delete_) return {route, method_not_allowed(request, "GET, DELETE")};
+    switch (queue_.cancel_or_delete(id)) {
+      case JobQueue::Removal::Cancelled:
+        return {route, json_answer(request, http::status::accepted, job_to_json(job->record()))};
+      case JobQueue::Removal::Deleted:
+        return {route, answer(request, http::status::no_content, "application/json", "")};
+      case JobQueue::Removal::Unknown:
+        return not_found();
+    }
+  }
+  if (sub == "retexture") {
+    if (method != http::verb::post) return {route, method_not_allowed(request, "POST")};
+    if (record.state != JobState::Done) return not_done("a perturbed radiosity map");
+    // Parsing, loading a solution that is not in memory, and rendering all happen on the
+    // render pool: a network thread never waits for them.
+    return {route, DeferredRequest{[this, request, id]() -> Response {
+              try {
+                auto solved = queue_.solution(id);
+                if (!solved)
+                  return problem(request, http::status::not_found, "Not found",
+                                 "job " + id + " was deleted");
+                RetextureRequest r =
+                    parse_retexture_request(request.body(), solved->scene, queue_.files());
+                Image image = render(r.scene, solved->solution);
+                bool png = r.format == ImageFormat::Png;
+                return answer(request, http::status::ok, png ? "image/png" : "image/x-exr",
+                              encode_image(image, r.format, r.scene.camera.exposure));
+              } catch (const SceneError& e) {
+                return scene_problem(request, e);
+              } catch (const std::exception& e) {
+                return problem(request, http::status::internal_server_error, "Internal error",
+                               e.what());
+              }
+            }}};
+  }
+  if (!get) return {route, method_not_allowed(request, "GET")};
+  if (sub == "stream") return {route, StreamRequest{job, StreamRequest::Kind::Images}};
+  if (sub == "events") return {route, StreamRequest{job, StreamRequest::Kind::Events}};
+  auto step_answer = [&](int step, bool immutable) -> Routed {
+    if (step < 1 || step > record.step)
+      return {route, problem(request, http::status::not_found, "Not found",
+                             "job " + id + " has no step " + std::to_string(step) + " (steps 1.." +
+                                 std::to_string(record.step) + " so far)")};
+    if (step < record.first_kept_step)
+      return {route, problem(request, http::status::gone, "Step dropped",
+                             "step " + std::to_string(step) + " is no longer kept (kept: " +
+                                 std::to_string(record.first_kept_step) + ".." +
+                                 std::to_string(record.step) + ")")};
+    auto png = JobStore::read(queue_.store().step_path(id, step));
+    if (!png)
+      return {route, problem(request, http::status::gone, "Step dropped",
+                             "step " + std::to_string(step) + " is no longer kept")};
+    return {route, png_answer(request, std::move(*png), step, immutable)};
+  };
+  if (sub == "steps") {
+    std::string_view name = parts.size() == 5 ? parts[4] : "";
+    auto step = name.ends_with(".png") ? to_int(name.substr(0, name.size() - 4)) : std::nullopt;
+    if (!step) return not_found();
+    return step_answer(*step, true);
+  }
+  if (sub == "preview") {
+    if (auto s = query_value(query, "step")) {
+      auto step = to_int(*s);
+      if (!step)
+        return {route,
+                problem(request, http::status::bad_request, "Bad query",
+                        "step must be an integer (got \"" + std::string(*s) + "\")", "step")};
+      return step_answer(*step, false);
+    }
+    Job::View view = job->view();
+    if (!view.preview)
+      return {route, problem(request, http::status::not_found, "No preview yet",
+                             "job " + id + " is " + std::string(to_string(record.state)) +
+                                 " and has no refinement step yet")};
+    return {route, png_answer(request, *view.preview, view.record.step, false)};
+  }
+  if (sub == "image") {
+    std::string_view format = query_value(query, "format").value_or("png");
+    if (format != "png" && format != "exr")
+      return {route,
+              problem(request, http::status::bad_request, "Bad query",
+                      "format must be png or exr (got \"" + std::string(format) + "\")", "format")};
+    if (record.state != JobState::Done) return not_done("the final image");
+    ImageFormat f = format == "png" ? ImageFormat::Png : ImageFormat::Exr;
+    auto bytes = JobStore::read(queue_.store().image_path(id, f));
+    if (!bytes) return not_found();
+    return {route, answer(request, http::status::ok,
+                          f == ImageFormat::Png ? "image/png" : "image/x-exr", std::move(*bytes))};
+  }
+  return not_found();
+}
+
+}  // namespace bumprad

@@ -1,0 +1,351 @@
+#include "server/job_queue.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "solver/image.h"
+#include "solver/solution.h"
+#include "solver/stopwatch.h"
+
+namespace bumprad {
+namespace {
+
+double unix_now() {
+  using namespace std::chrono;
+  return duration<double>(system_clock::now().time_since_epoch()).count();
+}
+
+void log_state(const JobRecord& j) {
+  std::fprintf(stderr, "job %s %s (%s, %d/%d shots)%s%s\n", j.id.c_str(),
+               std::string(to_string(j.state)).c_str(), j.scene_name.c_str(), j.shots, j.max_shots,
+               j.error.empty() ? "" : ": ", j.error.c_str());
+}
+
+}  // namespace
+
+JobQueue::JobQueue(JobStore& store, Metrics& metrics, QueueOptions options)
+    : store_(store), metrics_(metrics), options_(std::move(options)) {
+  std::vector<JobStore::Stored> stored = store_.load_all();
+  std::sort(stored.begin(), stored.end(),
+            [](const auto& a, const auto& b) { return a.record.created < b.record.created; });
+  for (auto& s : stored) {
+    JobRecord& r = s.record;
+    if (r.state == JobState::Running) {
+      r.state = JobState::Interrupted;
+      r.finished = unix_now();
+      r.error = "the server stopped while this job was running; submit it again";
+      store_.save_record(r);
+      log_state(r);
+    }
+    if (r.state == JobState::Done &&
+        !(std::filesystem::exists(store_.solution_path(r.id)) &&
+          std::filesystem::exists(store_.image_path(r.id, ImageFormat::Png)))) {
+      r.state = JobState::Failed;
+      r.error = "the job's files were lost from the data directory";
+      store_.save_record(r);
+      log_state(r);
+    }
+    auto job = std::make_shared<Job>(r);
+    jobs_[r.id] = job;
+    if (r.state == JobState::Queued) {
+      waiting_.push_back(job);
+    } else {
+      last_used_[r.id] = r.finished;
+      bytes_[r.id] = store_.bytes_used(r.id);
+    }
+  }
+  if (!stored.empty())
+    std::fprintf(stderr, "loaded %zu jobs from the data directory (%zu queued)\n", stored.size(),
+                 waiting_.size());
+  enforce_retention();
+  for (int i = 0; i < std::max(1, options_.workers); ++i) workers_.emplace_back([this] { work(); });
+}
+
+JobQueue::~JobQueue() {
+  shutdown();
+}
+
+std::shared_ptr<Job> JobQueue::submit(const JobRequest& request) {
+  JobRecord r;
+  r.id = JobStore::new_id();
+  r.scene_name = request.scene_name;
+  r.created = unix_now();
+  r.max_shots = request.scene.solver.max_shots;
+  r.preview_every = request.scene.solver.preview_every;
+  auto job = std::make_shared<Job>(r);
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) throw QueueFull("the server is shutting down");
+    if (waiting_.size() >= options_.max_queue)
+      throw QueueFull(std::to_string(waiting_.size()) + " jobs are already waiting (the limit)");
+    store_.create(r, request.scene_json);
+    jobs_[r.id] = job;
+    waiting_.push_back(job);
+  }
+  log_state(r);
+  wake_.notify_one();
+  return job;
+}
+
+std::shared_ptr<Job> JobQueue::find(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  auto it = jobs_.find(id);
+  if (it == jobs_.end()) return nullptr;
+  if (last_used_.count(id)) last_used_[id] = unix_now();
+  return it->second;
+}
+
+std::vector<JobRecord> JobQueue::list() const {
+  std::vector<JobRecord> out;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, job] : jobs_) out.push_back(job->record());
+  }
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a.created > b.created; });
+  return out;
+}
+
+JobQueue::Removal JobQueue::cancel_or_delete(const std::string& id) {
+  std::shared_ptr<Job> job;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = jobs_.find(id);
+    if (it == jobs_.end()) return Removal::Unknown;
+    job = it->second;
+    JobState state = job->record().state;
+    if (is_finished(state)) {
+      jobs_.erase(it);
+      last_used_.erase(id);
+      bytes_.erase(id);
+      cache_.remove_if([&](const auto& c) { return c.first == id; });
+    } else if (auto w = std::find(waiting_.begin(), waiting_.end(), job); w != waiting_.end()) {
+      waiting_.erase(w);
+      job->update([](JobRecord& r) {
+        r.state = JobState::Cancelled;
+        r.finished = unix_now();
+      });
+      store_.save_record(job->record());
+      last_used_[id] = unix_now();
+      bytes_[id] = store_.bytes_used(id);
+      log_state(job->record());
+      return Removal::Cancelled;
+    } else {
+      job->stop().request_stop();  // the worker records it as cancelled
+      return Removal::Cancelled;
+    }
+  }
+  store_.remove(id);
+  std::fprintf(stderr, "job %s deleted\n", id.c_str());
+  return Removal::Deleted;
+}
+
+std::shared_ptr<const LoadedSolution> JobQueue::solution(const std::string& id) {
+  {
+    std::lock_guard lock(mutex_);
+    auto it = jobs_.find(id);
+    if (it == jobs_.end() || it->second->record().state != JobState::Done) return nullptr;
+    last_used_[id] = unix_now();
+    for (auto c = cache_.begin(); c != cache_.end(); ++c)
+      if (c->first == id) {
+        cache_.splice(cache_.begin(), cache_, c);
+        return c->second;
+      }
+  }
+  auto loaded = std::make_shared<const LoadedSolution>(
+      load_solution(store_.solution_path(id), options_.files));
+  std::lock_guard lock(mutex_);
+  cache_.emplace_front(id, loaded);
+  if (cache_.size() > options_.cached_solutions) cache_.pop_back();
+  return loaded;
+}
+
+Metrics::Gauges JobQueue::gauges() const {
+  Metrics::Gauges g;
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, job] : jobs_) ++g.jobs_by_state[std::size_t(job->record().state)];
+  g.queue_depth = waiting_.size();
+  g.queue_capacity = options_.max_queue;
+  g.workers = workers_.size();
+  return g;
+}
+
+void JobQueue::shutdown() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_ && workers_.empty()) return;
+    stopping_ = true;
+    for (auto& [id, job] : jobs_)
+      if (job->record().state == JobState::Running) job->stop().request_stop();
+  }
+  wake_.notify_all();
+  for (auto& w : workers_) w.join();
+  workers_.clear();
+}
+
+void JobQueue::work() {
+  for (;;) {
+    std::shared_ptr<Job> job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [&] { return stopping_ || !waiting_.empty(); });
+      if (stopping_) return;
+      job = waiting_.front();
+      waiting_.pop_front();
+      job->update([](JobRecord& r) {
+        r.state = JobState::Running;
+        r.started = unix_now();
+      });
+    }
+    run(job);
+  }
+}
+
+void JobQueue::run(const std::shared_ptr<Job>& job) {
+  const std::string id = job->record().id;
+  try {
+    store_.save_record(job->record());
+    log_state(job->record());
+    auto scene_json = JobStore::read(store_.scene_path(id));
+    if (!scene_json) throw std::runtime_error("the job's scene file is missing");
+    Scene scene = parse_scene(std::string_view(*scene_json), options_.files);
+
+    // Each refinement step becomes a preview: kept on disk (the newest keep_steps) and
+    // handed to the job's watchers. The final step is the final image itself, below.
+    int last_shots = 0;
+    auto last_step = Clock::now();
+    auto publish = [&](const Image& image, int shots, double unshot, double seconds) {
+      auto png = std::make_shared<const std::string>(
+          encode_image(image, ImageFormat::Png, scene.camera.exposure));
+      JobRecord r = job->record();
+      int step = r.step + 1;
+      store_.save_step(id, step, *png);
+      int first = std::max(1, step - options_.keep_steps + 1);
+      for (int s = std::max(1, r.first_kept_step); s < first; ++s) store_.drop_step(id, s);
+      job->publish_step(png, [&](JobRecord& rec) {
+        rec.step = step;
+        rec.first_kept_step = first;
+        rec.shots = shots;
+        rec.unshot_fraction = unshot;
+        rec.seconds_previews += seconds;
+      });
+    };
+    Solution solution = solve(
+        scene,
+        [&](const Snapshot& snap, const Solution& partial) {
+          metrics_.count_shots(snap.shots - last_shots, seconds_since(last_step));
+          last_shots = snap.shots;
+          if (snap.final) return true;
+          auto t = Clock::now();
+          job->update([&](JobRecord& r) {
+            r.elements = partial.mesh->elements.size();
+            r.patches = partial.mesh->patches.size();
+          });
+          publish(render(scene, partial, snap.radiosity), snap.shots, snap.unshot_fraction,
+                  seconds_since(t));
+          last_step = Clock::now();
+          return true;
+        },
+        job->stop().get_token());
+
+    if (job->stop().stop_requested()) {
+      bool shutting_down;
+      {
+        std::lock_guard lock(mutex_);
+        shutting_down = stopping_;
+      }
+      finish(job, [&](JobRecord& r) {
+        r.shots = solution.stats.shots;
+        r.unshot_fraction = solution.stats.unshot_fraction;
+        r.state = shutting_down ? JobState::Interrupted : JobState::Cancelled;
+        if (shutting_down) r.error = "the server shut down while this job was running";
+      });
+      return;
+    }
+
+    auto t = Clock::now();
+    Image image = render(scene, solution);
+    std::string png = encode_image(image, ImageFormat::Png, scene.camera.exposure);
+    store_.save_file(store_.image_path(id, ImageFormat::Png), png);
+    store_.save_file(store_.image_path(id, ImageFormat::Exr),
+                     encode_image(image, ImageFormat::Exr, 1));
+    save_solution(store_.solution_path(id), *scene_json, solution);
+    publish(image, solution.stats.shots, solution.stats.unshot_fraction, seconds_since(t));
+    const SolveStats stats = solution.stats;
+    {
+      std::lock_guard lock(mutex_);
+      auto loaded = std::make_shared<LoadedSolution>();
+      loaded->scene = scene;
+      loaded->scene_json = *scene_json;
+      loaded->solution = std::move(solution);
+      cache_.emplace_front(id, std::move(loaded));
+      if (cache_.size() > options_.cached_solutions) cache_.pop_back();
+    }
+    finish(job, [&](JobRecord& r) {
+      r.state = JobState::Done;
+      r.shots = stats.shots;
+      r.unshot_fraction = stats.unshot_fraction;
+      r.elements = stats.elements;
+      r.seconds_solve = stats.seconds_solve;
+      r.seconds_texture = stats.seconds_texture;
+    });
+  } catch (const std::exception& e) {
+    finish(job, [&](JobRecord& r) {
+      r.state = JobState::Failed;
+      r.error = e.what();
+    });
+  }
+}
+
+void JobQueue::finish(const std::shared_ptr<Job>& job,
+                      const std::function<void(JobRecord&)>& change) {
+  JobRecord r = job->record();
+  change(r);
+  r.finished = unix_now();
+  try {
+    store_.save_record(r);  // last: the job is whole on disk before it says so
+  } catch (const std::exception& e) {
+    r.state = JobState::Failed;
+    r.error = std::string("cannot write the job's record: ") + e.what();
+  }
+  job->update([&](JobRecord& rec) { rec = r; });
+  log_state(r);
+  {
+    std::lock_guard lock(mutex_);
+    last_used_[r.id] = r.finished;
+    bytes_[r.id] = store_.bytes_used(r.id);
+  }
+  enforce_retention();
+}
+
+void JobQueue::enforce_retention() {
+  std::vector<std::string> evict;
+  {
+    std::lock_guard lock(mutex_);
+    std::vector<std::pair<double, std::string>> by_use;
+    std::uintmax_t total = 0;
+    for (const auto& [id, used] : last_used_) {
+      by_use.emplace_back(used, id);
+      total += bytes_[id];
+    }
+    std::sort(by_use.begin(), by_use.end());
+    std::size_t count = by_use.size();
+    for (const auto& [used, id] : by_use) {
+      if (count <= options_.max_jobs && total <= options_.max_bytes) break;
+      evict.push_back(id);
+      --count;
+      total -= bytes_[id];
+      jobs_.erase(id);
+      last_used_.erase(id);
+      bytes_.erase(id);
+      cache_.remove_if([&](const auto& c) { return c.first == id; });
+    }
+  }
+  for (const std::string& id : evict) {
+    store_.remove(id);
+    std::fprintf(stderr, "job %s evicted (retention limits)\n", id.c_str());
+  }
+}
+
+}  // namespace bumprad

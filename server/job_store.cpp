@@ -1,0 +1,127 @@
+#include "server/job_store.h"
+
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "solver/atomic_file.h"
+
+namespace bumprad {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::string_view kRecord = "job.json";
+constexpr std::string_view kRemoving = ".removing-";
+
+}  // namespace
+
+JobStore::JobStore(fs::path data_dir) : jobs_(std::move(data_dir) / "jobs") {
+  fs::create_directories(jobs_);
+}
+
+std::string JobStore::new_id() {
+  static thread_local std::mt19937_64 random{std::random_device{}()};
+  const char* hex = "0123456789abcdef";
+  std::uint64_t bits = random();
+  std::string id(16, '0');
+  for (char& c : id) {
+    c = hex[bits & 15];
+    bits >>= 4;
+  }
+  return id;
+}
+
+bool JobStore::is_valid_id(std::string_view id) {
+  return id.size() == 16 && id.find_first_not_of("0123456789abcdef") == std::string_view::npos;
+}
+
+fs::path JobStore::scene_path(const std::string& id) const {
+  return dir(id) / "scene.json";
+}
+
+fs::path JobStore::solution_path(const std::string& id) const {
+  return dir(id) / "solution.bumprad";
+}
+
+fs::path JobStore::image_path(const std::string& id, ImageFormat format) const {
+  return dir(id) / (format == ImageFormat::Png ? "image.png" : "image.exr");
+}
+
+fs::path JobStore::step_path(const std::string& id, int step) const {
+  return dir(id) / "steps" / (std::to_string(step) + ".png");
+}
+
+void JobStore::create(const JobRecord& job, std::string_view scene_json) {
+  fs::create_directories(dir(job.id) / "steps");
+  write_file_atomically(scene_path(job.id), scene_json);
+  save_record(job);
+}
+
+void JobStore::save_record(const JobRecord& job) {
+  write_file_atomically(dir(job.id) / kRecord, job_to_json(job));
+}
+
+void JobStore::save_step(const std::string& id, int step, std::string_view png) {
+  write_file_atomically(step_path(id, step), png);
+}
+
+void JobStore::drop_step(const std::string& id, int step) {
+  std::error_code ignored;
+  fs::remove(step_path(id, step), ignored);
+}
+
+void JobStore::save_file(const fs::path& path, std::string_view bytes) {
+  write_file_atomically(path, bytes);
+}
+
+std::optional<std::string> JobStore::read(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+std::vector<JobStore::Stored> JobStore::load_all() {
+  std::vector<Stored> out;
+  for (const auto& entry : fs::directory_iterator(jobs_)) {
+    std::string name = entry.path().filename().string();
+    std::error_code ignored;
+    if (name.starts_with(kRemoving)) {
+      fs::remove_all(entry.path(), ignored);
+      continue;
+    }
+    if (!is_valid_id(name)) continue;  // not ours: leave it alone
+    auto record = read(entry.path() / kRecord);
+    auto scene = read(scene_path(name));
+    try {
+      if (record && scene) {
+        out.push_back({job_from_json(*record), *scene});
+        continue;
+      }
+    } catch (const std::exception&) {
+    }
+    remove(name);
+  }
+  return out;
+}
+
+void JobStore::remove(const std::string& id) {
+  fs::path doomed = jobs_ / (std::string(kRemoving) + id);
+  std::error_code ignored;
+  fs::rename(dir(id), doomed, ignored);
+  fs::remove_all(doomed, ignored);
+}
+
+std::uintmax_t JobStore::bytes_used(const std::string& id) const {
+  std::uintmax_t total = 0;
+  std::error_code ignored;
+  for (auto it = fs::recursive_directory_iterator(dir(id), ignored);
+       it != fs::recursive_directory_iterator(); it.increment(ignored))
+    if (it->is_regular_file(ignored)) total += it->file_size(ignored);
+  return total;
+}
+
+}  // namespace bumprad

@@ -1,0 +1,67 @@
+#include "server/server.h"
+
+#include <cstdio>
+#include <thread>
+#include <vector>
+
+#include <boost/asio/signal_set.hpp>
+#include <boost/asio/steady_timer.hpp>
+
+#include "server/listener.h"
+
+namespace bumprad {
+
+int run_server(const ServerOptions& options) {
+  JobStore store(options.data_dir);
+  Metrics metrics;
+  JobQueue queue(store, metrics, options.queue);
+  Api api(queue, metrics, options.body_limit);
+  net::thread_pool render_pool(2);
+  SessionContext context{api, metrics, render_pool};
+
+  net::io_context ioc;
+  auto address = net::ip::make_address(options.bind);
+  auto listener =
+      std::make_shared<Listener>(ioc, net::ip::tcp::endpoint{address, options.port}, context);
+  listener->run();
+  std::printf("bumprad: listening on http://%s:%u (data in %s)\n", options.bind.c_str(),
+              unsigned(listener->port()), options.data_dir.c_str());
+  std::fflush(stdout);
+
+  // Shutdown: stop accepting; stop the solver (running jobs become interrupted, which ends
+  // their streams); let answers in flight finish within the grace period; then stop.
+  net::signal_set signals(ioc, SIGINT, SIGTERM);
+  net::steady_timer grace(ioc);
+  auto deadline = std::chrono::steady_clock::now();
+  std::thread stopper;
+  std::function<void()> wait_for_idle = [&] {
+    if (context.busy == 0 || std::chrono::steady_clock::now() >= deadline) return ioc.stop();
+    grace.expires_after(std::chrono::milliseconds(20));
+    grace.async_wait([&](beast::error_code) { wait_for_idle(); });
+  };
+  signals.async_wait([&](beast::error_code ec, int signal) {
+    if (ec) return;
+    std::fprintf(stderr, "bumprad: signal %d, shutting down\n", signal);
+    context.stopping = true;
+    listener->stop();
+    stopper = std::thread([&] {  // waiting for the workers must not block the network
+      queue.shutdown();
+      net::post(ioc, [&] {
+        deadline = std::chrono::steady_clock::now() + options.grace;
+        wait_for_idle();
+      });
+    });
+  });
+
+  std::vector<std::thread> threads;
+  for (int i = 1; i < options.io_threads; ++i) threads.emplace_back([&] { ioc.run(); });
+  ioc.run();
+  for (auto& t : threads) t.join();
+  if (stopper.joinable()) stopper.join();
+  queue.shutdown();
+  render_pool.join();
+  std::fprintf(stderr, "bumprad: stopped\n");
+  return 0;
+}
+
+}  // namespace bumprad
