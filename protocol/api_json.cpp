@@ -150,6 +150,46 @@ std::string step_event_json(const JobRecord& j) {
       .dump();
 }
 
+StepEvent step_event_from_json(std::string_view text) {
+  json d = parse_json(text);
+  try {
+    return {d.at("step").get<int>(), d.at("shots").get<int>(), d.at("max_shots").get<int>(),
+            d.at("unshot_fraction").get<double>(), d.at("preview").get<std::string>()};
+  } catch (const json::exception& e) {
+    throw SceneError("", std::string("not a step event: ") + e.what());
+  }
+}
+
+namespace {
+
+json parse_part(std::string_view text, const char* what) {
+  try {
+    return parse_json(text);
+  } catch (const MalformedJson& e) {
+    throw MalformedJson(std::string(what) + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+std::string job_request_json(const JobSubmission& s) {
+  json request = json::object();
+  if (s.scene_json.empty())
+    request["builtin"] = s.builtin;
+  else
+    request["scene"] = parse_part(s.scene_json, "the scene");
+  if (!s.bumps_json.empty()) request["bumps"] = parse_part(s.bumps_json, "the bump file");
+  if (s.max_shots) request["solver"]["max_shots"] = *s.max_shots;
+  if (s.preview_every) request["preview_every"] = *s.preview_every;
+  return request.dump();
+}
+
+std::string retexture_request_json(std::string_view bumps_json, ImageFormat format) {
+  json request = {{"format", format == ImageFormat::Png ? "png" : "exr"}};
+  if (!bumps_json.empty()) request["bumps"] = parse_part(bumps_json, "the bump file");
+  return request.dump();
+}
+
 JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
   json request = parse_json(body);
   require_object(request, "", "a JSON object");

@@ -49,6 +49,14 @@ std::string jobs_to_json(const std::vector<JobRecord>& jobs);
 // One refinement step, for the event stream: its number, progress and preview URL.
 std::string step_event_json(const JobRecord& job);
 
+struct StepEvent {
+  int step = 0, shots = 0, max_shots = 0;
+  double unshot_fraction = 1;
+  std::string preview;  // the step's URL path
+};
+// Throws MalformedJson or SceneError.
+StepEvent step_event_from_json(std::string_view text);
+
 struct JobRequest {
   Scene scene;
   std::string scene_json;  // the scene with the request's overrides merged in: what is solved
@@ -60,6 +68,18 @@ struct JobRequest {
 // in the scene, a job previews about 20 steps. Throws MalformedJson or SceneError whose
 // pointer is into the request ("/scene/objects/0/size", "/bumps/wall/amplitude").
 JobRequest parse_job_request(std::string_view body, const ImageFiles& files);
+
+// The client's side of POST /v1/jobs: a built-in scene by name (`scene_json` empty) or an
+// inline scene, with optional bump functions (a "bumps" block's JSON) and solver settings.
+// Throws MalformedJson naming which text is not JSON.
+struct JobSubmission {
+  std::string builtin;
+  std::string scene_json, bumps_json;
+  std::optional<int> max_shots, preview_every;
+};
+std::string job_request_json(const JobSubmission& submission);
+// The client's side of POST /v1/jobs/{id}/retexture.
+std::string retexture_request_json(std::string_view bumps_json, ImageFormat format);
 
 struct RetextureRequest {
   Scene scene;  // the solved scene with the new bump functions and camera
