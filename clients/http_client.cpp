@@ -113,7 +113,7 @@ HttpResponse HttpClient::stream(std::string_view target,
       parser.get().body().data = chunk;
       parser.get().body().size = sizeof chunk;
       beast::error_code ec;
-      http::read(c.stream, buffer, parser, ec);
+      http::read_some(c.stream, buffer, parser, ec);
       if (ec && ec != http::error::need_buffer && ec != http::error::partial_message &&
           ec != net::error::eof)
         throw boost::system::system_error(ec);

@@ -1,0 +1,49 @@
+// The real server for the integration tests: `bumprad serve` started as its own process on
+// an ephemeral loopback port, with a data directory that outlives it for restart tests.
+#pragma once
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "clients/http_client.h"
+
+namespace bumprad::test {
+
+class ServerProcess {
+ public:
+  // Starts `bumprad serve --port 0 --data-dir DATA ARGS...` and waits until it listens.
+  ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& args = {});
+  ~ServerProcess();  // SIGKILL if it still runs
+  ServerProcess(const ServerProcess&) = delete;
+  ServerProcess& operator=(const ServerProcess&) = delete;
+
+  unsigned short port() const { return port_; }
+  HttpClient client(double timeout_s = 60) const {
+    return HttpClient("127.0.0.1", port_, timeout_s);
+  }
+  // SIGTERM, then the exit status once it has stopped.
+  int terminate();
+  void kill_hard();         // SIGKILL: no chance to save anything
+  std::string log() const;  // what it wrote to stderr
+
+ private:
+  pid_t pid_ = -1;
+  int stdout_fd_ = -1;
+  unsigned short port_ = 0;
+  std::filesystem::path log_;
+};
+
+// A small room with a light and a wrinkled box, cheap enough to solve in a test: JSON text.
+// `endless` never converges (unshot fraction 0, a million shots): a job to cancel or kill.
+std::string small_scene_json(int max_shots, bool endless = false);
+// {"scene": small_scene_json(...), ...extra request keys}
+std::string small_job_json(int max_shots, int preview_every, bool endless = false);
+
+// Polls the job until `done(state)` or `seconds` pass; returns its last JSON.
+std::string wait_for_job(const HttpClient& client, const std::string& id,
+                         const std::vector<std::string>& states, double seconds = 60);
+
+}  // namespace bumprad::test
