@@ -69,7 +69,8 @@ json job_document(const JobRecord& j) {
   json links = {{"self", self},
                 {"preview", self + "/preview"},
                 {"stream", self + "/stream"},
-                {"events", self + "/events"}};
+                {"events", self + "/events"},
+                {"scene", self + "/scene"}};
   if (j.state == JobState::Done) {
     links["image"] = self + "/image";
     links["retexture"] = self + "/retexture";

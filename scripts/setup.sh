@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
 # Installs bumprad's Debian packages (only those missing) and builds Release into build/.
+# With --tests, also what the tests need: Chromium, Node.js (if the machine has none) and
+# playwright-core from the npm registry, pinned by tests/web/package-lock.json.
 # Idempotent: a second run installs nothing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-mapfile -t packages < <(grep -v '^#' scripts/debian-packages.txt | grep -v '^$')
+lists=(scripts/debian-packages.txt)
+[[ "${1:-}" == "--tests" ]] && lists+=(scripts/test-packages.txt)
+mapfile -t packages < <(cat "${lists[@]}" | grep -v '^#' | grep -v '^$')
+if [[ "${1:-}" == "--tests" ]] && ! command -v node >/dev/null; then
+  packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -20,3 +27,11 @@ fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
+
+if [[ "${1:-}" == "--tests" ]]; then
+  # npm ci reinstalls only when the lock file changed since the last install.
+  if ! cmp -s tests/web/package-lock.json tests/web/node_modules/.installed-lock.json; then
+    (cd tests/web && npm ci --no-audit --no-fund --loglevel=error &&
+      cp package-lock.json node_modules/.installed-lock.json)
+  fi
+fi

@@ -242,6 +242,11 @@ Routed Api::route(const Request& request) {
                                  " and has no refinement step yet")};
     return {route, png_answer(request, *view.preview, view.record.step, false)};
   }
+  if (sub == "scene") {
+    auto text = JobStore::read(queue_.store().scene_path(id));
+    if (!text) return not_found();
+    return {route, json_answer(request, http::status::ok, std::move(*text))};
+  }
   if (sub == "image") {
     std::string_view format = query_value(query, "format").value_or("png");
     if (format != "png" && format != "exr")

@@ -128,6 +128,10 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
                  422, "unknown bump type", "/bumps/wrinkles/type");
   EXPECT_EQ(json::parse(c.get("/v1/jobs/" + id).body)["shots"], 40) << "nothing was re-solved";
 
+  json stored = json::parse(c.get("/v1/jobs/" + id + "/scene").body);
+  EXPECT_EQ(stored["solver"]["preview_every"], 10) << "the request's settings are merged in";
+  EXPECT_EQ(stored["bumps"]["wrinkles"]["type"], "wrinkles");
+
   // Listing, scenes, OpenAPI, the viewer page and metrics.
   json list = json::parse(c.get("/v1/jobs").body);
   ASSERT_EQ(list["jobs"].size(), 1u);
