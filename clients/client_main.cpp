@@ -225,6 +225,9 @@ int main(int argc, char** argv) {
   } catch (const bumprad::UsageError& e) {
     std::cerr << "bumprad-client: " << e.what() << "\n" << bumprad::kUsage;
     return 2;
+  } catch (const bumprad::MalformedJson& e) {
+    std::cerr << "bumprad-client: " << e.reason() << "\n";
+    return 1;
   } catch (const std::invalid_argument& e) {
     std::cerr << "bumprad-client: --server: " << e.what() << "\n";
     return 2;

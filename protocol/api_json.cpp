@@ -20,8 +20,7 @@ constexpr int kDefaultSteps = 20;
 
 // A SceneError from a part of the request, relocated to where that part sits in it.
 [[noreturn]] void rethrow_under(const SceneError& e, const std::string& prefix) {
-  std::string what = e.what();
-  throw SceneError(prefix + e.pointer(), what.substr(what.find(": ") + 2));
+  throw SceneError(prefix + e.pointer(), e.reason());
 }
 
 void require_object(const json& value, const std::string& pointer, const char* what) {
@@ -167,7 +166,7 @@ json parse_part(std::string_view text, const char* what) {
   try {
     return parse_json(text);
   } catch (const MalformedJson& e) {
-    throw MalformedJson(std::string(what) + ": " + e.what());
+    throw MalformedJson(std::string(what) + ": " + e.reason());
   }
 }
 

@@ -17,12 +17,15 @@ class SceneError : public std::runtime_error {
  public:
   SceneError(std::string pointer, const std::string& reason)
       : std::runtime_error((pointer.empty() ? std::string("/") : pointer) + ": " + reason),
-        pointer_(std::move(pointer)) {}
+        pointer_(std::move(pointer)),
+        reason_(reason) {}
   // RFC 6901 pointer to the offending value; empty for the document itself.
   const std::string& pointer() const { return pointer_; }
+  const std::string& reason() const { return reason_; }
 
  private:
   std::string pointer_;
+  std::string reason_;
 };
 
 // The text is not JSON at all (HTTP answers 400 for this, 422 for other SceneErrors).

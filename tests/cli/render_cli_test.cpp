@@ -1,5 +1,4 @@
 // The bumprad binary end to end: real processes, real files, real exit codes.
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -11,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "solver/image.h"
+#include "tests/test_command.h"
 #include "tests/test_files.h"
 
 namespace bumprad {
@@ -18,19 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Process {
-  int exit_code;
-  std::string output;  // stdout and stderr together
-};
+using Process = test::CommandResult;
 
 Process run(const std::string& args) {
-  std::string cmd = std::string(BUMPRAD_BIN) + " " + args + " 2>&1";
-  FILE* pipe = ::popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return test::run_command(std::string(BUMPRAD_BIN) + " " + args);
 }
 
 class RenderCli : public ::testing::Test {

@@ -1,0 +1,111 @@
+// bumprad-client against the real server: submit --watch saves every preview and the final
+// image, then image, retexture, status and cancel; failures say what went wrong.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "solver/image.h"
+#include "tests/test_command.h"
+#include "tests/test_files.h"
+#include "tests/test_server.h"
+
+namespace bumprad {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+class BumpradClient : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::fresh_temp_dir("client");
+    server_ = std::make_unique<test::ServerProcess>(dir_ / "data");
+  }
+  test::CommandResult client(const std::string& args) const {
+    return test::run_command(std::string(BUMPRAD_CLIENT_BIN) + " --server http://127.0.0.1:" +
+                             std::to_string(server_->port()) + " " + args);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name) << text;
+  }
+
+  fs::path dir_;
+  std::unique_ptr<test::ServerProcess> server_;
+};
+
+TEST_F(BumpradClient, SubmitWatchImageRetextureCancel) {
+  write("scene.json", test::small_scene_json(30));
+  auto submitted = client("submit " + path("scene.json") + " --preview-every 10 --watch --out " +
+                          path("previews"));
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
+  std::string id = submitted.output.substr(0, submitted.output.find('\n'));
+  ASSERT_EQ(id.size(), 16u) << submitted.output;
+  for (int step = 1; step <= 3; ++step)
+    EXPECT_TRUE(fs::exists(dir_ / "previews" / (id + "-step-" + std::to_string(step) + ".png")))
+        << submitted.output;
+  ASSERT_TRUE(fs::exists(dir_ / "previews" / (id + ".png")));
+  EXPECT_EQ(read_image(dir_ / "previews" / (id + ".png")).width, 64);
+
+  auto exr = client("image " + id + " -o " + path("final.exr"));
+  EXPECT_EQ(exr.exit_code, 0) << exr.output;
+  EXPECT_EQ(read_image(path("final.exr")).height, 48);
+
+  write("bricks.json", R"({"wrinkles": {"type": "bricks", "amplitude": 0.02}})");
+  auto re = client("retexture " + id + " --bump " + path("bricks.json") + " -o " + path("b.png"));
+  EXPECT_EQ(re.exit_code, 0) << re.output;
+  EXPECT_EQ(read_image(path("b.png")).width, 64);
+
+  write("bad.json", R"({"wrinkles": {"type": "bricks", "mortar": 2}})");
+  auto bad = client("retexture " + id + " --bump " + path("bad.json") + " -o " + path("x.png"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("(422): /bumps/wrinkles/mortar"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("x.png")));
+
+  auto status = client("status " + id);
+  EXPECT_EQ(json::parse(status.output)["state"], "done");
+  auto deleted = client("cancel " + id);
+  EXPECT_EQ(deleted.output, "deleted\n");
+  auto gone = client("status " + id);
+  EXPECT_EQ(gone.exit_code, 1);
+  EXPECT_NE(gone.output.find("Not found (404)"), std::string::npos) << gone.output;
+}
+
+TEST_F(BumpradClient, CancelARunningJob) {
+  write("endless.json", test::small_scene_json(0, /*endless=*/true));
+  auto submitted = client("submit " + path("endless.json"));
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
+  std::string id = submitted.output.substr(0, 16);
+  test::wait_for_job(server_->client(), id, {"running"});
+  auto cancel = client("cancel " + id);
+  EXPECT_EQ(cancel.exit_code, 0);
+  EXPECT_NE(cancel.output.find("cancel"), std::string::npos);
+  test::wait_for_job(server_->client(), id, {"cancelled"}, 10);
+}
+
+TEST_F(BumpradClient, FailuresSayWhatWentWrong) {
+  auto refused = test::run_command(std::string(BUMPRAD_CLIENT_BIN) +
+                                   " --server http://127.0.0.1:1 status 0123456789abcdef");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.output.find("cannot connect to http://127.0.0.1:1: Connection refused"),
+            std::string::npos)
+      << refused.output;
+  auto unknown = client("submit builtin:attic");
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.output.find("Invalid request (422): /builtin: unknown built-in scene"),
+            std::string::npos)
+      << unknown.output;
+  write("broken.json", "{\"camera\": ");
+  auto broken = client("submit " + path("broken.json"));
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.output.find("the scene: malformed JSON"), std::string::npos) << broken.output;
+  auto usage = client("image 0123456789abcdef -o out.tiff");
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_NE(usage.output.find("must end in .png or .exr"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bumprad
