@@ -10,8 +10,6 @@
 #include "solver/solution.h"
 #include "solver/stopwatch.h"
 
-namespace {}  // namespace
-
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::vector<std::string> sources(argv + 1, argv + argc);

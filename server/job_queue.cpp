@@ -11,6 +11,8 @@
 namespace bumprad {
 namespace {
 
+constexpr double kPreviewShare = 0.25;
+
 double unix_now() {
   using namespace std::chrono;
   return duration<double>(system_clock::now().time_since_epoch()).count();
@@ -211,13 +213,18 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
     if (!scene_json) throw std::runtime_error("the job's scene file is missing");
     Scene scene = parse_scene(std::string_view(*scene_json), options_.files);
 
-    // Each refinement step becomes a preview: kept on disk (the newest keep_steps) and
-    // handed to the job's watchers. The final step is the final image itself, below.
+    // Refinement steps become previews, kept on disk (the newest keep_steps) and handed to
+    // the job's watchers. The last step is the final image itself, below.
+    const auto started = Clock::now();
     int last_shots = 0;
-    auto last_step = Clock::now();
-    auto publish = [&](const Image& image, int shots, double unshot, double seconds) {
-      auto png = std::make_shared<const std::string>(
+    double drafts_s = 0;  // inside the solve's wall time, reported apart
+    auto last_step = started;
+    auto png_of = [&](const Image& image) {
+      return std::make_shared<const std::string>(
           encode_image(image, ImageFormat::Png, scene.camera.exposure));
+    };
+    auto publish = [&](std::shared_ptr<const std::string> png, int shots, double unshot,
+                       Clock::time_point t) {
       JobRecord r = job->record();
       int step = r.step + 1;
       store_.save_step(id, step, *png);
@@ -228,22 +235,36 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
         rec.first_kept_step = first;
         rec.shots = shots;
         rec.unshot_fraction = unshot;
-        rec.seconds_previews += seconds;
+        rec.seconds_previews += seconds_since(t);
       });
     };
+    // Previews are drafts, one ray per pixel and few glossy samples, and take at most
+    // kPreviewShare of the job's time: a step that comes sooner shows in the next preview.
+    // Full-quality previews of paper-room took 7 times as long as its solve.
+    Scene draft = scene;
+    draft.camera.antialias = 1;
+    draft.camera.glossy_samples = std::min(draft.camera.glossy_samples, 2);
     Solution solution = solve(
         scene,
         [&](const Snapshot& snap, const Solution& partial) {
           metrics_.count_shots(snap.shots - last_shots, seconds_since(last_step));
           last_shots = snap.shots;
           if (snap.final) return true;
-          auto t = Clock::now();
+          JobRecord progress;
           job->update([&](JobRecord& r) {
+            r.shots = snap.shots;
+            r.unshot_fraction = snap.unshot_fraction;
             r.elements = partial.mesh->elements.size();
             r.patches = partial.mesh->patches.size();
+            progress = r;
           });
-          publish(render(scene, partial, snap.radiosity), snap.shots, snap.unshot_fraction,
-                  seconds_since(t));
+          if (progress.step == 0 ||
+              progress.seconds_previews < kPreviewShare * seconds_since(started)) {
+            auto t = Clock::now();
+            publish(png_of(render(draft, partial, snap.radiosity)), snap.shots,
+                    snap.unshot_fraction, t);
+            drafts_s += seconds_since(t);
+          }
           last_step = Clock::now();
           return true;
         },
@@ -266,12 +287,12 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
 
     auto t = Clock::now();
     Image image = render(scene, solution);
-    std::string png = encode_image(image, ImageFormat::Png, scene.camera.exposure);
-    store_.save_file(store_.image_path(id, ImageFormat::Png), png);
+    auto png = png_of(image);
+    store_.save_file(store_.image_path(id, ImageFormat::Png), *png);
     store_.save_file(store_.image_path(id, ImageFormat::Exr),
                      encode_image(image, ImageFormat::Exr, 1));
     save_solution(store_.solution_path(id), *scene_json, solution);
-    publish(image, solution.stats.shots, solution.stats.unshot_fraction, seconds_since(t));
+    publish(png, solution.stats.shots, solution.stats.unshot_fraction, t);
     const SolveStats stats = solution.stats;
     {
       std::lock_guard lock(mutex_);
@@ -287,7 +308,7 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
       r.shots = stats.shots;
       r.unshot_fraction = stats.unshot_fraction;
       r.elements = stats.elements;
-      r.seconds_solve = stats.seconds_solve;
+      r.seconds_solve = stats.seconds_solve - drafts_s;
       r.seconds_texture = stats.seconds_texture;
     });
   } catch (const std::exception& e) {

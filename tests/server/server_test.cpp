@@ -85,7 +85,10 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
       last_step = step["step"];
       EXPECT_EQ(step["preview"], "/v1/jobs/" + id + "/steps/" + std::to_string(last_step) + ".png");
     }
-  EXPECT_EQ(last_step, 3 + 1) << "steps at 10, 20 and 30 shots, then the final image";
+  // Drafts at 10, 20 and 30 shots (as many as fit in a quarter of the job's time; the first
+  // always), then the final image.
+  EXPECT_GE(last_step, 2);
+  EXPECT_LE(last_step, 4);
 
   json job = json::parse(c.get("/v1/jobs/" + id).body);
   EXPECT_EQ(job["state"], "done");
