@@ -13,7 +13,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: bumprad serve [--bind ADDR] [--port P] [--data-dir DIR] [--workers N]\n"
     "                     [--max-queue Q] [--assets DIR] [--keep-steps K] [--max-jobs J]\n"
-    "                     [--max-bytes B] [--body-limit B]\n"
+    "                     [--max-bytes B] [--body-limit B] [--max-retextures R]\n"
     "  --bind 127.0.0.1     address to listen on (0.0.0.0 for every interface)\n"
     "  --port 8080          0 picks a free port, printed at start\n"
     "  --data-dir DIR       jobs, solutions and images (default ./bumprad-data)\n"
@@ -23,7 +23,8 @@ constexpr const char* kUsage =
     "  --keep-steps 64      newest step previews kept per job\n"
     "  --max-jobs 500       finished jobs kept (least recently used evicted first)\n"
     "  --max-bytes 4G       their files in all (suffixes K, M, G)\n"
-    "  --body-limit 8M      largest request body accepted\n";
+    "  --body-limit 8M      largest request body accepted\n"
+    "  --max-retextures 16  re-textures waiting to render before 503\n";
 
 struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -71,6 +72,8 @@ ServerOptions parse_args(std::span<const std::string_view> args) {
       o.queue.max_jobs = parse_amount(flag, v, 1, false);
     else if (flag == "--max-bytes")
       o.queue.max_bytes = parse_amount(flag, v, 1, true);
+    else if (flag == "--max-retextures")
+      o.max_retextures = int(std::min<std::uintmax_t>(4096, parse_amount(flag, v, 1, false)));
     else if (flag == "--body-limit")
       o.body_limit = parse_amount(flag, v, 1024, true);
     else

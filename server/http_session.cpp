@@ -63,8 +63,17 @@ void HttpSession::on_read(beast::error_code ec) {
   if (auto* stream = std::get_if<StreamRequest>(&routed.action))
     return start_stream(std::move(*stream));
   auto& deferred = std::get<DeferredRequest>(routed.action);
+  if (++context_.deferred > context_.max_deferred) {
+    --context_.deferred;
+    Response busy = problem(request, http::status::service_unavailable, "Busy",
+                            std::to_string(context_.max_deferred) +
+                                " re-textures are already waiting to render; try again shortly");
+    busy.set(http::field::retry_after, "1");
+    return write(std::move(busy));
+  }
   net::post(context_.render_pool, [self = shared_from_this(), work = std::move(deferred.work)] {
     Response response = work();
+    --self->context_.deferred;
     net::post(self->stream_.get_executor(),
               [self, r = std::move(response)]() mutable { self->write(std::move(r)); });
   });

@@ -30,7 +30,9 @@ struct SessionContext {
   net::thread_pool& render_pool;  // re-texturing, off the network threads
   std::chrono::seconds read_timeout{30};
   std::chrono::seconds heartbeat{15};
-  std::atomic<int> busy{0};  // requests between read and written, streams until they end
+  std::atomic<int> busy{0};      // requests between read and written, streams until they end
+  std::atomic<int> deferred{0};  // re-textures waiting for or on the render pool
+  int max_deferred = 16;         // more are refused with 503, so bodies cannot pile up
   std::atomic<bool> stopping{false};
 };
 

@@ -1,5 +1,9 @@
 #include "server/job_store.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -17,8 +21,19 @@ constexpr std::string_view kRemoving = ".removing-";
 
 }  // namespace
 
-JobStore::JobStore(fs::path data_dir) : jobs_(std::move(data_dir) / "jobs") {
+JobStore::JobStore(fs::path data_dir) : jobs_(data_dir / "jobs") {
   fs::create_directories(jobs_);
+  fs::path lock = data_dir / "lock";
+  lock_fd_ = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (lock_fd_ < 0 || ::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
+    if (lock_fd_ >= 0) ::close(lock_fd_);
+    throw std::runtime_error(data_dir.string() +
+                             " is in use by another bumprad serve (or cannot be locked)");
+  }
+}
+
+JobStore::~JobStore() {
+  ::close(lock_fd_);
 }
 
 std::string JobStore::new_id() {

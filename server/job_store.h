@@ -16,8 +16,12 @@ namespace bumprad {
 
 class JobStore {
  public:
-  // Creates <data_dir>/jobs if needed.
+  // Creates <data_dir>/jobs if needed and locks the directory for this process: a second
+  // server on the same directory is refused (std::runtime_error) rather than sharing it.
   explicit JobStore(std::filesystem::path data_dir);
+  ~JobStore();
+  JobStore(const JobStore&) = delete;
+  JobStore& operator=(const JobStore&) = delete;
 
   // A fresh random id (16 hex digits); is_valid_id() refuses anything else, so no id from
   // a URL can name a path outside the store.
@@ -54,6 +58,7 @@ class JobStore {
 
  private:
   std::filesystem::path jobs_;
+  int lock_fd_ = -1;
 };
 
 }  // namespace bumprad

@@ -18,6 +18,7 @@ int run_server(const ServerOptions& options) {
   Api api(queue, metrics, options.body_limit);
   net::thread_pool render_pool(2);
   SessionContext context{api, metrics, render_pool};
+  context.max_deferred = options.max_retextures;
 
   net::io_context ioc;
   auto address = net::ip::make_address(options.bind);

@@ -17,6 +17,7 @@ struct ServerOptions {
   std::size_t body_limit = 8 << 20;
   int io_threads = 2;
   std::chrono::milliseconds grace{3000};  // for answers in flight at shutdown
+  int max_retextures = 16;                // waiting to render before 503
   QueueOptions queue;
 };
 

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/event_stream.h"
+#include "tests/test_command.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"
 
@@ -278,6 +279,24 @@ TEST(Server, BadRequestsGetProblemDetailsAndTheServerCarriesOn) {
   EXPECT_EQ(c.request("DELETE", "/v1/jobs/" + id).status, 202);
 }
 
+// Re-textures beyond --max-retextures are refused at once instead of queueing their bodies.
+TEST(Server, ReTexturesBeyondTheLimitGet503) {
+  ServerProcess server(test::fresh_temp_dir("server"), {"--max-retextures", "1"});
+  HttpClient c = server.client();
+  std::string id = submit(c, test::small_job_json(5, 5));
+  test::wait_for_job(c, id, {"done"});
+  auto slow = std::async(std::launch::async, [&] {
+    return c.request("POST", "/v1/jobs/" + id + "/retexture",
+                     R"({"camera": {"width": 1024, "height": 1024, "antialias": 4}})");
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  HttpResponse busy = c.request("POST", "/v1/jobs/" + id + "/retexture", "{}");
+  expect_problem(busy, 503, "already waiting");
+  EXPECT_EQ(busy.header("retry-after"), "1");
+  EXPECT_EQ(slow.get().status, 200);
+  EXPECT_EQ(c.request("POST", "/v1/jobs/" + id + "/retexture", "{}").status, 200);
+}
+
 TEST(Server, ConcurrentSubmissionsAllRun) {
   ServerProcess server(test::fresh_temp_dir("server"), {"--workers", "2", "--max-queue", "16"});
   HttpClient c = server.client();
@@ -352,6 +371,17 @@ TEST(Server, GracefulShutdownInterruptsRunningJobs) {
   }
   ServerProcess server(data);
   EXPECT_EQ(json::parse(server.client().get("/v1/jobs/" + id).body)["state"], "interrupted");
+}
+
+TEST(Server, ASecondServerCannotShareTheDataDirectory) {
+  fs::path data = test::fresh_temp_dir("server");
+  ServerProcess first(data);
+  auto second =
+      test::run_command(std::string(BUMPRAD_BIN) + " serve --port 0 --data-dir " + data.string());
+  EXPECT_EQ(second.exit_code, 1);
+  EXPECT_NE(second.output.find("is in use by another bumprad serve"), std::string::npos)
+      << second.output;
+  EXPECT_EQ(first.client().get("/healthz").status, 200);
 }
 
 TEST(Server, RetentionEvictsWholeJobsLeastRecentlyUsedFirst) {
