@@ -373,6 +373,20 @@ TEST(Server, GracefulShutdownInterruptsRunningJobs) {
   EXPECT_EQ(json::parse(server.client().get("/v1/jobs/" + id).body)["state"], "interrupted");
 }
 
+TEST(Server, OnlyTheNewestStepsAreKept) {
+  fs::path data = test::fresh_temp_dir("server");
+  ServerProcess server(data, {"--keep-steps", "1"});
+  HttpClient c = server.client();
+  std::string id = submit(c, test::small_job_json(20, 5));
+  json job = json::parse(test::wait_for_job(c, id, {"done"}));
+  int last = job["step"];
+  ASSERT_GE(last, 2) << "a draft and the final image";
+  EXPECT_EQ(job["first_kept_step"], last);
+  expect_problem(c.get("/v1/jobs/" + id + "/steps/1.png"), 410, "no longer kept");
+  EXPECT_FALSE(fs::exists(data / "jobs" / id / "steps" / "1.png"));
+  EXPECT_EQ(c.get("/v1/jobs/" + id + "/steps/" + std::to_string(last) + ".png").status, 200);
+}
+
 TEST(Server, ASecondServerCannotShareTheDataDirectory) {
   fs::path data = test::fresh_temp_dir("server");
   ServerProcess first(data);
