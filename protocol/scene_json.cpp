@@ -462,7 +462,8 @@ Object parse_object(const Node& n, std::size_t index,
 void apply_solver_settings(const json& settings, SolverSettings& s, const std::string& pointer) {
   Node n(settings, pointer);
   n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
-                "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map"});
+                "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map",
+                "form_factors", "alias_pixels"});
   if (auto v = n.get("hemicube_resolution")) {
     s.hemicube_resolution = int(v->integer(Limits::kMinHemicube, Limits::kMaxHemicube));
     if (s.hemicube_resolution % 2)
@@ -476,6 +477,16 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   if (auto v = n.get("preview_every")) s.preview_every = int(v->integer(1, Limits::kMaxShots));
   if (auto v = n.get("rotate_hemicube")) s.rotate_hemicube = v->boolean();
   if (auto v = n.get("seed")) s.seed = std::uint32_t(v->integer(0, 0xffffffffLL));
+  if (auto v = n.get("form_factors")) {
+    std::string f = v->string();
+    if (f == "hemicube")
+      s.form_factors = FormFactorMethod::Hemicube;
+    else if (f == "ray_cast")
+      s.form_factors = FormFactorMethod::RayCast;
+    else
+      v->fail("unknown form factor method \"" + f + "\" (expected hemicube or ray_cast)");
+  }
+  if (auto v = n.get("alias_pixels")) s.alias_pixels = v->in_range(0, 1024, false);
   if (auto v = n.get("texture")) {
     std::string t = v->string();
     if (t == "none")

@@ -77,4 +77,21 @@ std::optional<Hit> RayScene::intersect(const Ray& ray) const {
   return Hit{element, rh.hit.u, rh.hit.v, rh.ray.tfar, front};
 }
 
+bool RayScene::occluded(const Ray& ray, double distance) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r{};
+  r.org_x = float(ray.origin.x);
+  r.org_y = float(ray.origin.y);
+  r.org_z = float(ray.origin.z);
+  r.dir_x = float(ray.direction.x);
+  r.dir_y = float(ray.direction.y);
+  r.dir_z = float(ray.direction.z);
+  r.tnear = 0;
+  r.tfar = float(distance);
+  r.mask = ~0u;
+  rtcOccluded1(scene_, &context, &r);
+  return r.tfar < 0;  // Embree marks an occluded ray with tfar = -inf
+}
+
 }  // namespace bumprad

@@ -1,4 +1,4 @@
-// The mesh's elements in an Embree BVH, for the view pass's rays.
+// The mesh's elements in an Embree BVH, for the view pass's rays and ray-cast form factors.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +29,8 @@ class RayScene {
 
   // Nearest hit along the ray; safe to call from many threads at once.
   std::optional<Hit> intersect(const Ray& ray) const;
+  // Whether anything lies on the ray before `distance` (a shadow ray); thread-safe too.
+  bool occluded(const Ray& ray, double distance) const;
 
  private:
   const Mesh& mesh_;

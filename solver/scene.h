@@ -136,6 +136,10 @@ struct Object {
 // shooting at every refinement step (so every preview shows bumps).
 enum class TextureMode { None, Gather, Shoot };
 
+// How a shot's form factors are found: the hemi-cube's item buffer (Cohen & Greenberg 1985)
+// or rays from each receiver to points on the shooter (Wallace, Elmquist & Haines 1989).
+enum class FormFactorMethod { Hemicube, RayCast };
+
 // The sampled perturbed normals: N plus `azimuths` directions on each tilt ring.
 struct MapSettings {
   std::vector<double> tilts_deg{22.5, 45};
@@ -151,6 +155,10 @@ struct SolverSettings {
   int patch_elements = 2;         // elements per patch side (patches shoot, elements receive)
   int preview_every = 10;         // shots per refinement step (callback, preview)
   bool rotate_hemicube = true;    // random rotation about N per shot against aliasing
+  FormFactorMethod form_factors = FormFactorMethod::Hemicube;
+  // Hemi-cube shots: receivers expected to cover fewer pixels than this get ray-cast form
+  // factors instead (aliasing); 0 turns the fallback off.
+  double alias_pixels = 4;
   std::uint32_t seed = 1;
   TextureMode texture = TextureMode::Shoot;
   MapSettings map;
