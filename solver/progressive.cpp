@@ -30,11 +30,15 @@ void add_by_source(std::vector<std::pair<std::uint32_t, Rgb>>& list, std::uint32
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
 constexpr double kNearField = 3.0;
 
+// Shadow rays start and end this far (in scene diagonals) off their surfaces: Embree works
+// in single precision, and at 1e-6 a ray from a slightly tilted wall of the Cornell box
+// (coordinates near 550) hit the wall itself.
+constexpr double kRayOffset = 1e-4;
+
 // Four points per element spread over its area, each standing for a quarter of it: the
 // centres of its 2 x 2 bilinear sub-quads, or of a triangle's four midpoint sub-triangles
 // (barycentric (2/3, 1/6, 1/6) and its turns, and (1/3, 1/3, 1/3)).
-void add_element_samples(const Mesh& mesh, const Element& e, double patch_area,
-                         std::vector<ProgressiveSolver::ShooterSample>& out) {
+void add_element_samples(const Mesh& mesh, const Element& e, std::vector<AreaSample>& out) {
   static constexpr std::array<glm::dvec2, 4> kQuad = {
       {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
   static constexpr std::array<glm::dvec2, 4> kTriangle = {
@@ -44,17 +48,19 @@ void add_element_samples(const Mesh& mesh, const Element& e, double patch_area,
     Vec3 point(0);
     for (int k = 0; k < e.vertex_count; ++k)
       point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
-    out.push_back({point, e.area / (4 * patch_area)});
+    out.push_back({point, e.area / 4});
   }
 }
 
 }  // namespace
 
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
-                                     const SolverSettings& settings)
+                                     const SolverSettings& settings, const RayScene* rays)
     : mesh_(mesh),
       settings_(settings),
+      rays_(rays),
       hemicube_(mesh, settings.hemicube_resolution),
+      visible_slot_(mesh.elements.size(), -1),
       reflectance_(mesh.elements.size()),
       specular_(mesh.elements.size()),
       shininess_(mesh.elements.size()),
@@ -69,8 +75,10 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
     const Patch& patch = mesh.patches[p];
     for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-      add_element_samples(mesh, mesh.elements[e], patch.area, samples_[p]);
+      add_element_samples(mesh, mesh.elements[e], samples_[p]);
   }
+  if (settings.form_factors == FormFactorMethod::RayCast && !rays)
+    throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
   Rgb weighted_rho(0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -128,24 +136,18 @@ bool ProgressiveSolver::shoot() {
     angle = std::uniform_real_distribution<double>(0, 2 * std::numbers::pi)(rng_);
   Vec3 origin = patch.centroid + patch.normal * (mesh_.diagonal() * 1e-6);
   const Frame frame = frame_about(patch.normal, angle);
-  hemicube_.render(origin, frame, pi);
-
-  // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
-  // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
-  auto& visible = hemicube_.form_factors();
-  const double near = kNearField * std::sqrt(patch.area);
-  double seen = 0, corrected = 0;
-  for (VisibleElement& v : visible) {
-    seen += v.form_factor;
-    if (glm::length(mesh_.elements[v.element].centroid - patch.centroid) < near)
-      v.form_factor = near_field_form_factor(pi, origin, v.element, v.form_factor);
-    corrected += v.form_factor;
-  }
-  const double scale = corrected > 0 ? seen / corrected : 0;
-  for (VisibleElement& v : visible) v.form_factor *= scale;
+  // Ray-cast shots still render the hemi-cube when its pixels are needed: for specular
+  // transfer or to shoot the perturbed map.
+  const bool ray_cast = settings_.form_factors == FormFactorMethod::RayCast;
+  if (!ray_cast || map_ || !sources.empty()) hemicube_.render(origin, frame, pi);
+  find_form_factors(pi, origin);
 
   // Element i receives power dB_j A_j F_ji (then dB_i += rho_i dB_j F_ji A_j / A_i).
-  for (const VisibleElement& v : visible) receive(v.element, shot_power * v.form_factor, pi);
+  double seen = 0;
+  for (const VisibleElement& v : visible_) {
+    receive(v.element, shot_power * v.form_factor, pi);
+    seen += v.form_factor;
+  }
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
   double specular_s = 0;
   if (!sources.empty()) {
@@ -158,7 +160,7 @@ bool ProgressiveSolver::shoot() {
   double texture_s = 0;
   if (map_) {
     auto t1 = Clock::now();
-    map_->shoot(hemicube_, frame, shot_power, visible);
+    map_->shoot(hemicube_, frame, shot_power, visible_);
     texture_s = seconds_since(t1);
   }
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
@@ -269,9 +271,101 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
   if (!(at_origin > 0)) return hemicube_form_factor;
   double visible = std::min(1.0, hemicube_form_factor / at_origin);
   double mean = 0;
-  for (const ShooterSample& s : samples_[patch])
-    mean += s.weight * point_to_polygon(s.point, n, receiver);
-  return visible * mean;
+  for (const AreaSample& s : samples_[patch])
+    mean += s.area * point_to_polygon(s.point, n, receiver);
+  return visible * mean / mesh_.patches[patch].area;
+}
+
+// F_pj = F(dA_j -> A_p) A_j / A_p by reciprocity, the receiver at the element's centre.
+// Near field, point sampling falls far short (tests/solver/ray_cast_form_factor_test.cpp):
+// there the rays give only the visible share, and Lambert's exact value the rest.
+double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
+                                                  std::uint32_t element) const {
+  const Element& e = mesh_.elements[element];
+  const Patch& p = mesh_.patches[patch];
+  const auto& samples = samples_[patch];
+  double f = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, rays_,
+                                  kRayOffset * mesh_.diagonal());
+  if (glm::length(e.centroid - p.centroid) < kNearField * std::sqrt(p.area)) {
+    double open = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, nullptr, 0);
+    double exact = 0;
+    for (std::uint32_t k = p.first; k < p.first + p.count; ++k) {
+      const Element& s = mesh_.elements[k];
+      std::array<Vec3, 4> polygon;
+      for (int c = 0; c < s.vertex_count; ++c) polygon[c] = mesh_.vertices[s.v[c]].position;
+      exact += point_to_polygon(e.centroid, e.normal,
+                                std::span<const Vec3>(polygon.data(), std::size_t(s.vertex_count)));
+    }
+    f = open > 0 ? exact * f / open : 0;
+  }
+  return f * e.area / p.area;
+}
+
+void ProgressiveSolver::find_form_factors(std::uint32_t pi, const Vec3& origin) {
+  const Patch& patch = mesh_.patches[pi];
+  visible_.clear();
+  if (settings_.form_factors == FormFactorMethod::RayCast) {
+    if (map_) hemicube_.form_factors();  // lists the bumpy elements' pixels for the map
+    double total = 0;
+    for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
+      if (mesh_.elements[j].patch == pi) continue;
+      double f = ray_cast_form_factor_to(pi, j);
+      if (f > 0) visible_.push_back({j, f});
+      total += f;
+    }
+    // Sampling errors must not make energy: a patch cannot send out more than it shoots.
+    if (total > 1)
+      for (VisibleElement& v : visible_) v.form_factor /= total;
+    return;
+  }
+
+  // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
+  // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
+  visible_ = hemicube_.form_factors();
+  const double near = kNearField * std::sqrt(patch.area);
+  double seen = 0, corrected = 0;
+  for (std::size_t k = 0; k < visible_.size(); ++k) {
+    VisibleElement& v = visible_[k];
+    visible_slot_[v.element] = std::int32_t(k);
+    seen += v.form_factor;
+    if (glm::length(mesh_.elements[v.element].centroid - patch.centroid) < near)
+      v.form_factor = near_field_form_factor(pi, origin, v.element, v.form_factor);
+    corrected += v.form_factor;
+  }
+  const double scale = corrected > 0 ? seen / corrected : 0;
+  for (VisibleElement& v : visible_) v.form_factor *= scale;
+
+  // Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
+  // face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole
+  // pixel or not at all, so it takes its form factor from rays instead. The total changes
+  // by the difference; the ledger books it as escaped (or not) like any other.
+  if (rays_ && settings_.alias_pixels > 0) {
+    const double pixel =
+        4.0 / (double(settings_.hemicube_resolution) * double(settings_.hemicube_resolution));
+    double total = seen;
+    for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
+      const Element& e = mesh_.elements[j];
+      Vec3 d = e.centroid - patch.centroid;
+      double r2 = glm::dot(d, d);
+      if (e.patch == pi || r2 < near * near) continue;
+      double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
+      if (cos_s <= 0 || cos_r <= 0) continue;
+      double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
+      if (solid_angle >= settings_.alias_pixels * pixel) continue;
+      double f = ray_cast_form_factor_to(pi, j);
+      if (visible_slot_[j] >= 0) {
+        double& old = visible_[std::size_t(visible_slot_[j])].form_factor;
+        total += f - old;
+        old = f;
+      } else if (f > 0) {
+        visible_.push_back({j, f});
+        total += f;
+      }
+    }
+    if (total > 1)
+      for (VisibleElement& v : visible_) v.form_factor /= total;
+  }
+  for (const VisibleElement& v : visible_) visible_slot_[v.element] = -1;
 }
 
 void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step,

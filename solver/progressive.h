@@ -11,6 +11,8 @@
 #include "solver/hemicube.h"
 #include "solver/mesh.h"
 #include "solver/perturbed_map.h"
+#include "solver/ray_cast_form_factor.h"
+#include "solver/ray_scene.h"
 #include "solver/scene.h"
 
 namespace bumprad {
@@ -48,8 +50,10 @@ struct Snapshot {
 
 class ProgressiveSolver {
  public:
+  // `rays` (over the same mesh) serves ray-cast form factors and the hemi-cube's aliasing
+  // fallback; without it, ray-cast settings are refused and the fallback is off.
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
-                    const SolverSettings& settings);
+                    const SolverSettings& settings, const RayScene* rays = nullptr);
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
   void attach_map(PerturbedMap* map);
@@ -74,15 +78,14 @@ class ProgressiveSolver {
   const ShotTiming& last_shot() const { return last_shot_; }
   const ShotTiming& total_time() const { return total_; }
 
-  // A point on a shooting patch and the share of its area it stands for (near field).
-  struct ShooterSample {
-    Vec3 point;
-    double weight;  // fraction of the patch's area
-  };
-
  private:
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
+  // F from the patch to the element by rays (Wallace et al. 1989), exact where near.
+  double ray_cast_form_factor_to(std::uint32_t patch, std::uint32_t element) const;
+  // The shot's form factors: the hemi-cube's, corrected in the near field and where it
+  // aliases, or all by rays.
+  void find_form_factors(std::uint32_t patch, const Vec3& origin);
   // Element i receives `incident` watts from patch `source`: diffuse and specular shares.
   void receive(std::uint32_t element, const Rgb& incident, std::uint32_t source);
   // The specular part of a shot (paper eq. 4-6): queued power per source, reflected by the
@@ -92,11 +95,14 @@ class ProgressiveSolver {
 
   const Mesh& mesh_;
   SolverSettings settings_;
-  std::vector<std::vector<ShooterSample>> samples_;  // per patch, for the near field
+  const RayScene* rays_;
+  std::vector<std::vector<AreaSample>> samples_;  // per patch: near field and ray casting
   Hemicube hemicube_;
-  std::vector<Rgb> reflectance_;   // per element: diffuse albedo rho = k_d * colour
-  std::vector<double> specular_;   // per element: k_s
-  std::vector<double> shininess_;  // per element: Phong exponent, 0 for a mirror
+  std::vector<VisibleElement> visible_;     // the current shot's form factors
+  std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1
+  std::vector<Rgb> reflectance_;            // per element: diffuse albedo rho = k_d * colour
+  std::vector<double> specular_;            // per element: k_s
+  std::vector<double> shininess_;           // per element: Phong exponent, 0 for a mirror
   // Per non-diffuse element, the power it will reflect specularly, by source patch, since
   // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
   // shot at it since then, so O(non-diffuse elements x sources per interval).

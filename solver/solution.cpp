@@ -16,7 +16,7 @@ Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token 
   out.rays = std::make_unique<RayScene>(mesh);
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
-  ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get());
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
   solver.run(
