@@ -23,8 +23,8 @@ void configure_llvmpipe_once() {
 GlContext::GlContext(int width, int height)
     : buffer_(std::size_t(width) * std::size_t(height)), width_(width), height_(height) {
   configure_llvmpipe_once();
-  // A 32-bit depth buffer: item buffers must separate surfaces a hair apart (a light
-  // lowered 0.1 mm below a ceiling) seen from across the scene.
+  // Ask for a 32-bit depth buffer; llvmpipe gives 24 bits regardless (GL_DEPTH_BITS), so
+  // the hemi-cube's near plane is what keeps surfaces a millimetre apart (hemicube.cpp).
   context_ = OSMesaCreateContextExt(OSMESA_RGBA, 32, 0, 0, nullptr);
   if (!context_) context_ = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
   if (!context_) throw std::runtime_error("OSMesa: could not create an offscreen GL context");

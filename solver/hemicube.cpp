@@ -158,7 +158,10 @@ void Hemicube::render(const Vec3& origin, const Frame& frame,
   glScissor(0, 0, context_.width(), context_.height());
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
-  // Depth range: near small against any element, far past the farthest corner.
+  // Depth range: far past the farthest corner; near at a thousandth of the scene, small
+  // against any element yet large enough for llvmpipe's 24-bit depth buffer to part
+  // surfaces 1 mm apart across the scene (depth resolution ~ z^2 / near * 2^-24: 0.08 mm at
+  // 3 m in a 6.5 m scene; at 1e-5 it was 8 mm, and a rug lying 1 mm above a floor vanished).
   double far = 0;
   for (int i = 0; i < 8; ++i) {
     Vec3 c((i & 1) ? mesh_.bounds_max.x : mesh_.bounds_min.x,
@@ -166,7 +169,7 @@ void Hemicube::render(const Vec3& origin, const Frame& frame,
            (i & 4) ? mesh_.bounds_max.z : mesh_.bounds_min.z);
     far = std::max(far, glm::length(c - origin));
   }
-  double near = std::max(mesh_.diagonal(), far) * 1e-5;
+  double near = std::max(mesh_.diagonal(), far) * 1e-3;
   far = far * 1.01 + near;
 
   // CPU culling: an element is drawn on a face only if it faces the origin and is not

@@ -42,6 +42,31 @@ TEST(DeltaFormFactors, SumToOneAndMatchTheDirectionalIntegrals) {
   }
 }
 
+// A rug 1 mm above a 6 m floor, seen from 3 m: the item buffer must put the rug in front.
+// OSMesa's llvmpipe gives a 24-bit depth buffer whatever is asked; with the near plane at
+// 1e-5 of the scene the two were 8 mm apart in depth resolution, the floor (drawn first) won
+// every pixel, and wrinkled-box's rug got no direct light at all.
+TEST(Hemicube, SurfacesAMillimetreApartDoNotZFight) {
+  auto floor = test::rectangle_facing_down(6, 6, 0);
+  auto rug = test::rectangle_facing_down(2, 2, 0.001);
+  Mesh mesh = build_mesh(test::scene_of({test::quad({floor[3], floor[2], floor[1], floor[0]}),
+                                         test::quad({rug[3], rug[2], rug[1], rug[0]})}));
+  Hemicube h(mesh, 150);
+  for (double x : {0.0, 0.6}) {
+    const Vec3 eye(x, 0.3, 3), down(0, 0, -1);
+    h.render(eye, frame_about(down, 0.3), std::nullopt);
+    double f_rug = 0, f_floor = 0;
+    for (const VisibleElement& v : h.form_factors())
+      (mesh.elements[v.element].centroid.z > 0 ? f_rug : f_floor) += v.form_factor;
+    std::vector<Vec3> rug_polygon(rug.begin(), rug.end());
+    double exact_rug = point_to_polygon(eye, down, rug_polygon);
+    std::vector<Vec3> floor_polygon(floor.begin(), floor.end());
+    double exact_floor = point_to_polygon(eye, down, floor_polygon) - exact_rug;
+    EXPECT_NEAR(f_rug, exact_rug, 0.01 * exact_rug) << x;
+    EXPECT_NEAR(f_floor, exact_floor, 0.01 * exact_floor) << x;
+  }
+}
+
 // Mean absolute error of the hemi-cube against Lambert's formula over random receiver
 // points, normals (tilted up to 60 degrees) and hemi-cube rotations.
 double mean_point_error(int resolution, int trials, std::uint32_t seed) {
