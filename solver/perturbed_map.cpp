@@ -169,8 +169,8 @@ void PerturbedMap::gather(const std::vector<Material>& materials, std::span<cons
   }
 }
 
-void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const Rgb& power,
-                         std::span<const VisibleElement> used) {
+void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const Vec3& origin,
+                         const Rgb& power, std::span<const VisibleElement> used) {
   if (slot_element_.empty()) return;
   const DeltaFormFactors& df = hemicube.deltas();
   const std::size_t nd = directions_.size();
@@ -194,7 +194,12 @@ void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const R
     std::int32_t es = element_slot_[v.element];
     if (es < 0) continue;
     double* acc = &scratch_[std::size_t(es) * (nd + 1)];
-    double scale = acc[nd] > 0 ? v.form_factor / acc[nd] : 0;
+    if (!(acc[nd] > 0)) {
+      receive_ray(v.element, glm::normalize(origin - mesh_.elements[v.element].centroid),
+                  power * v.form_factor);
+      continue;
+    }
+    double scale = v.form_factor / acc[nd];
     Rgb h = power * (scale / mesh_.elements[v.element].area);
     for (std::size_t s = 0; s < nd; ++s) element_received_[std::size_t(es) * nd + s] += h * acc[s];
     std::fill(acc, acc + nd + 1, 0.0);

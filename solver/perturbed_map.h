@@ -72,9 +72,11 @@ class PerturbedMap {
 
   // Shooting (eq. 20-22): call after every shot with the shooter's frame, its shot power
   // (dB_j A_j per channel) and the form factors the solver used, which carry its
-  // near-field corrections; F'' is scaled by the same ratio per element. The hemi-cube
-  // must watch perturbed_elements().
-  void shoot(const Hemicube& hemicube, const Frame& shooter, const Rgb& power,
+  // near-field corrections; F'' is scaled by the same ratio per element. An element the
+  // solver lit but the hemi-cube missed (ray-cast form factors, the aliasing fallback) is
+  // lit as by one ray from the shooter's `origin`. The hemi-cube must watch
+  // perturbed_elements().
+  void shoot(const Hemicube& hemicube, const Frame& shooter, const Vec3& origin, const Rgb& power,
              std::span<const VisibleElement> used);
   // Power arriving at a perturbed element along one direction (`to_source`, world, unit),
   // as specular transfer delivers it (paper section 2.4: texture lit by reflections).

@@ -160,7 +160,7 @@ bool ProgressiveSolver::shoot() {
   double texture_s = 0;
   if (map_) {
     auto t1 = Clock::now();
-    map_->shoot(hemicube_, frame, shot_power, visible_);
+    map_->shoot(hemicube_, frame, origin, shot_power, visible_);
     texture_s = seconds_since(t1);
   }
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,

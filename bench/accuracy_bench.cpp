@@ -1,0 +1,175 @@
+// Speed against accuracy: the sweep behind docs/speed-accuracy.png (scripts/chart.sh).
+//   build/bin/bumprad-bench-accuracy [point] [cornell] [wrinkled-box] > docs/speed-accuracy.csv
+// Writes CSV rows `part,method,setting,seconds,error`:
+//  - part "point": a point form factor against Lambert's exact value, over 200 random
+//    receivers (tilted up to 60 degrees) below a 1.2 x 0.8 rectangle at distance ~1 ("far")
+//    and ~0.15 ("near"). seconds: per form factor; error: mean |F - F_exact| / mean F_exact.
+//    Methods: the hemi-cube at resolution R, and Wallace's ray casting with n x n samples.
+//  - part "cornell" and "wrinkled-box": the whole solve, rendered at 128 x 128, against a
+//    reference solved with a 512 hemi-cube. seconds: the solve; error: mean |I - I_ref| /
+//    mean I_ref over the pixels. Methods: hemi-cube at R (aliasing fallback on), hemi-cube
+//    at R without the fallback, and ray-cast form factors.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "protocol/scene_source.h"
+#include "solver/form_factor_exact.h"
+#include "solver/hemicube.h"
+#include "solver/mesh.h"
+#include "solver/ray_cast_form_factor.h"
+#include "solver/solution.h"
+#include "solver/stopwatch.h"
+
+namespace bumprad {
+namespace {
+
+struct Receiver {
+  Vec3 point, normal;
+  double angle;  // hemi-cube rotation
+};
+
+std::vector<Receiver> receivers(int count, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Receiver> out;
+  for (int t = 0; t < count; ++t) {
+    Vec3 p(0.6 * u(rng), 0.4 * u(rng), 0.05 * u(rng));
+    double tilt = (std::numbers::pi / 3) * (0.5 + 0.5 * u(rng));
+    double az = std::numbers::pi * u(rng);
+    out.push_back(
+        {p, Vec3(std::sin(tilt) * std::cos(az), std::sin(tilt) * std::sin(az), std::cos(tilt)),
+         std::numbers::pi * u(rng)});
+  }
+  return out;
+}
+
+// A w x h rectangle at height z facing down, as one element.
+Scene rectangle_scene(double w, double h, double z) {
+  Scene s;
+  s.materials.push_back({});
+  Object o;
+  o.shape = QuadShape{{Vec3(-w / 2, -h / 2, z), Vec3(-w / 2, h / 2, z), Vec3(w / 2, h / 2, z),
+                       Vec3(w / 2, -h / 2, z)}};
+  o.density.counts = {1, 1};
+  s.objects.push_back(o);
+  return s;
+}
+
+void point_sweep(const char* regime, double z) {
+  Scene scene = rectangle_scene(1.2, 0.8, z);
+  Mesh mesh = build_mesh(scene);
+  RayScene rays(mesh);
+  const Element& e = mesh.elements[0];
+  std::vector<Vec3> polygon;
+  for (int k = 0; k < 4; ++k) polygon.push_back(mesh.vertices[e.v[std::size_t(k)]].position);
+  const auto rs = receivers(200, 7);
+  std::vector<double> exact;
+  double mean_exact = 0;
+  for (const Receiver& r : rs) {
+    exact.push_back(point_to_polygon(r.point, r.normal, polygon));
+    mean_exact += exact.back() / double(rs.size());
+  }
+  auto report = [&](const std::string& method, int setting, double seconds,
+                    const std::vector<double>& f) {
+    double err = 0;
+    for (std::size_t i = 0; i < f.size(); ++i) err += std::abs(f[i] - exact[i]);
+    std::printf("point-%s,%s,%d,%.4e,%.4e\n", regime, method.c_str(), setting,
+                seconds / double(f.size()), err / double(f.size()) / mean_exact);
+  };
+  for (int res : {16, 32, 64, 128, 256, 512}) {
+    Hemicube h(mesh, res);
+    std::vector<double> f;
+    auto t0 = Clock::now();
+    for (const Receiver& r : rs) {
+      h.render(r.point, frame_about(r.normal, r.angle), std::nullopt);
+      double sum = 0;
+      for (const VisibleElement& v : h.form_factors()) sum += v.form_factor;
+      f.push_back(sum);
+    }
+    report("hemicube", res, seconds_since(t0), f);
+  }
+  for (int n : {1, 2, 4, 8, 16}) {
+    std::vector<AreaSample> samples;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        samples.push_back(
+            {Vec3(1.2 * ((i + 0.5) / n - 0.5), 0.8 * ((j + 0.5) / n - 0.5), z), e.area / (n * n)});
+    std::vector<double> f;
+    auto t0 = Clock::now();
+    for (const Receiver& r : rs)
+      f.push_back(ray_cast_form_factor(r.point, r.normal, samples, e.normal, &rays, 1e-6));
+    report("ray_cast", n * n, seconds_since(t0), f);
+  }
+}
+
+Image solve_and_render(Scene scene, double* seconds) {
+  scene.camera.width = scene.camera.height = 128;
+  auto t0 = Clock::now();
+  Solution s = solve(scene);
+  *seconds = seconds_since(t0);
+  return render(scene, s);
+}
+
+double image_error(const Image& a, const Image& ref) {
+  double diff = 0, sum = 0;
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    diff += std::abs(double(a.rgb[i]) - double(ref.rgb[i]));
+    sum += double(ref.rgb[i]);
+  }
+  return diff / sum;
+}
+
+void image_sweep(const std::string& name) {
+  Scene base = load_scene("builtin:" + name);
+  base.solver.max_shots = 4000;
+  base.solver.unshot_fraction = 0.002;  // every run converges alike: the form factors differ
+  double seconds = 0;
+  Scene ref = base;
+  ref.solver.hemicube_resolution = 512;
+  Image reference = solve_and_render(ref, &seconds);
+  std::fprintf(stderr, "%s: reference (hemi-cube 512) solved in %.1f s\n", name.c_str(), seconds);
+  for (int res : {32, 64, 100, 150, 250}) {
+    for (double alias : {4.0, 0.0}) {
+      Scene s = base;
+      s.solver.hemicube_resolution = res;
+      s.solver.alias_pixels = alias;
+      Image img = solve_and_render(s, &seconds);
+      std::printf("%s,%s,%d,%.4e,%.4e\n", name.c_str(),
+                  alias > 0 ? "hemicube" : "hemicube_no_fallback", res, seconds,
+                  image_error(img, reference));
+    }
+  }
+  Scene s = base;
+  s.solver.form_factors = FormFactorMethod::RayCast;
+  Image img = solve_and_render(s, &seconds);
+  std::printf("%s,ray_cast,16,%.4e,%.4e\n", name.c_str(), seconds, image_error(img, reference));
+}
+
+}  // namespace
+}  // namespace bumprad
+
+int main(int argc, char** argv) {
+  using namespace bumprad;
+  std::vector<std::string> parts(argv + 1, argv + argc);
+  if (parts.empty()) parts = {"point", "cornell", "wrinkled-box"};
+  try {
+    std::printf("part,method,setting,seconds,error\n");
+    for (const std::string& part : parts) {
+      if (part == "point") {
+        point_sweep("far", 1.0);
+        point_sweep("near", 0.15);
+      } else {
+        image_sweep(part);
+      }
+      std::fflush(stdout);
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bumprad-bench-accuracy: %s\n", e.what());
+    return 1;
+  }
+}
