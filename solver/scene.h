@@ -158,7 +158,7 @@ struct SolverSettings {
   FormFactorMethod form_factors = FormFactorMethod::Hemicube;
   // Hemi-cube shots: receivers expected to cover fewer pixels than this get ray-cast form
   // factors instead (aliasing); 0 turns the fallback off.
-  double alias_pixels = 4;
+  double alias_pixels = 1;
   std::uint32_t seed = 1;
   TextureMode texture = TextureMode::Shoot;
   MapSettings map;

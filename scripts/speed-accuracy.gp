@@ -1,0 +1,33 @@
+# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Three panels, error
+# against time on log scales, one curve per method: lower left is better.
+set datafile separator ","
+set terminal pngcairo size 1500,480 font ",10"
+set output "docs/speed-accuracy.png.tmp"
+set multiplot layout 1,3
+set logscale xy
+set grid
+set key top right font ",9"
+csv = "docs/speed-accuracy.csv"
+# The rows of one part and method, so that each curve is one connected line.
+rows(p, m) = sprintf("< awk -F, '$1==\"%s\" && $2==\"%s\"' %s", p, m, csv)
+
+set title "Point form factors vs Lambert (200 receivers)"
+set xlabel "seconds per form factor"
+set ylabel "mean |F - F_{exact}| / mean F_{exact}"
+plot rows("point-far","hemicube") using 4:5 w lp pt 7 t "hemi-cube R 16-512, distance 1", \
+     rows("point-far","ray_cast") using 4:5 w lp pt 5 t "ray cast n 1-256, distance 1", \
+     rows("point-near","hemicube") using 4:5 w lp pt 6 t "hemi-cube, distance 0.15", \
+     rows("point-near","ray_cast") using 4:5 w lp pt 4 t "ray cast, distance 0.15"
+
+do for [scene in "cornell wrinkled-box"] {
+  set title sprintf("%s: image vs hemi-cube 512 reference", scene)
+  set xlabel "solve seconds (to 0.2% unshot)"
+  set ylabel "mean |I - I_{ref}| / mean I_{ref}"
+  plot rows(scene,"hemicube_alias_0") using 4:5 w lp pt 7 t "hemi-cube R 32-250", \
+       rows(scene,"hemicube_alias_1") using 4:5 w lp pt 6 t "+ ray-cast fallback < 1 pixel (default)", \
+       rows(scene,"hemicube_alias_4") using 4:5 w lp pt 4 t "+ fallback < 4 pixels", \
+       rows(scene,"ray_cast") using 4:5 w p pt 5 ps 1.5 t "ray cast, 16 samples per patch"
+}
+unset multiplot
+set output
+system("mv docs/speed-accuracy.png.tmp docs/speed-accuracy.png")
