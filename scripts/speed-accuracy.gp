@@ -6,6 +6,8 @@ set output "docs/speed-accuracy.png.tmp"
 set multiplot layout 1,3
 set logscale xy
 set grid
+set format x "10^{%L}"
+set format y "10^{%L}"
 set key top right font ",9"
 csv = "docs/speed-accuracy.csv"
 # The rows of one part and method, so that each curve is one connected line.
