@@ -1,5 +1,5 @@
 // Solve benchmark: per-shot cost split into item-buffer rendering, pixel accumulation and
-// the rest (shooter choice, near-field corrections, distribution).
+// the rest (shooter choice, near-field and aliasing corrections, distribution).
 //   build/bin/bumprad-bench-solve [SCENE] [--shots N] [--hemicube R]
 // SCENE defaults to builtin:paper-room. The numbers go in the README with the machine.
 #include <algorithm>
@@ -12,6 +12,7 @@
 #include "protocol/scene_source.h"
 #include "solver/mesh.h"
 #include "solver/progressive.h"
+#include "solver/ray_scene.h"
 #include "solver/stopwatch.h"
 
 namespace {
@@ -54,7 +55,8 @@ int main(int argc, char** argv) {
 
     auto t0 = Clock::now();
     Mesh mesh = build_mesh(scene);
-    ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+    RayScene rays(mesh);  // as solve() does: the aliasing fallback (or ray-cast mode) uses it
+    ProgressiveSolver solver(mesh, scene.materials, scene.solver, &rays);
     double setup = seconds_since(t0);
 
     // Diffuse shots and shots that also carry specular transfer (mirrors, glossy) apart.
