@@ -1,10 +1,13 @@
 // Speed against accuracy: the sweep behind docs/speed-accuracy.png (scripts/chart.sh).
-//   build/bin/bumprad-bench-accuracy [point] [cornell] [wrinkled-box] > docs/speed-accuracy.csv
+//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box] > CSV
 // Writes CSV rows `part,method,setting,seconds,error`:
 //  - part "point": a point form factor against Lambert's exact value, over 200 random
 //    receivers (tilted up to 60 degrees) below a 1.2 x 0.8 rectangle at distance ~1 ("far")
 //    and ~0.15 ("near"). seconds: per form factor; error: mean |F - F_exact| / mean F_exact.
 //    Methods: the hemi-cube at resolution R, and Wallace's ray casting with n x n samples.
+//  - part "perturbed": the perturbed radiosity map, gathered or shot, with 9-65 sampled
+//    normals, against the exact perturbed value (see perturbed_sweep). seconds: texture
+//    work per map vertex.
 //  - part "cornell" and "wrinkled-box": the whole solve, rendered at 128 x 128, against a
 //    reference solved with a 512 hemi-cube. seconds: the solve; error: mean |I - I_ref| /
 //    mean I_ref over the pixels. Methods: hemi-cube at R with the aliasing fallback at 0
@@ -20,6 +23,8 @@
 #include "solver/form_factor_exact.h"
 #include "solver/hemicube.h"
 #include "solver/mesh.h"
+#include "solver/perturbed_map.h"
+#include "solver/progressive.h"
 #include "solver/ray_cast_form_factor.h"
 #include "solver/solution.h"
 #include "solver/stopwatch.h"
@@ -113,6 +118,108 @@ void point_sweep(const char* regime, double z) {
   }
 }
 
+// Part "perturbed": B'(N') from the map against rho * E * F(dA -> light, N') exact, for a
+// 10 cm receiver one unit below a 1 x 0.6 light, at 300 random normals tilted up to 45
+// degrees (the outer ring), interpolated between the samples.
+// seconds: the texture work; error: mean |B' - exact| / mean exact.
+void perturbed_sweep() {
+  constexpr double kRho = 0.5;
+  const std::array<Vec3, 4> light = {Vec3(-0.2, -0.4, 1), Vec3(-0.2, 0.2, 1), Vec3(0.8, 0.2, 1),
+                                     Vec3(0.8, -0.4, 1)};
+  const std::vector<Vec3> light_polygon(light.begin(), light.end());
+  const double side = 0.1;
+  Scene scene;
+  Material grey, lamp;
+  grey.reflectance = Rgb(kRho);
+  lamp.reflectance = Rgb(0);
+  lamp.emission = Rgb(1);
+  scene.materials = {grey, lamp};
+  Object receiver, emitter;
+  receiver.shape = QuadShape{{Vec3(side / 2, -side / 2, 0), Vec3(side / 2, side / 2, 0),
+                              Vec3(-side / 2, side / 2, 0), Vec3(-side / 2, -side / 2, 0)}};
+  receiver.density.counts = {1, 1};
+  emitter.shape = QuadShape{light};
+  emitter.material = 1;
+  emitter.density.counts = {16, 16};
+  emitter.density.patch_elements = 1;
+  scene.objects = {receiver, emitter};
+  scene.solver.max_shots = 256;
+  scene.solver.unshot_fraction = 0;
+  Mesh mesh = build_mesh(scene);
+
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> normals;
+  for (int i = 0; i < 300; ++i) {
+    double tilt = std::acos(1 - u(rng) * (1 - std::cos(std::numbers::pi / 4)));
+    double az = 2 * std::numbers::pi * u(rng);
+    normals.emplace_back(std::sin(tilt) * std::cos(az), std::sin(tilt) * std::sin(az),
+                         std::cos(tilt));
+  }
+  // Gather evaluates at the vertices, shoot over the receiving element (eq. 20): each is
+  // compared with the exact value for what it computes.
+  auto exact_at = [&](const Vec3& p, const Vec3& n) {
+    return kRho * point_to_polygon(p, n, light_polygon);
+  };
+  auto exact_over_receiver = [&](const Vec3& n) {
+    double sum = 0;
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 8; ++j)
+        sum += exact_at(Vec3(side * ((i + 0.5) / 8 - 0.5), side * ((j + 0.5) / 8 - 0.5), 0), n);
+    return sum / 64;
+  };
+  // Sampled normals: rings of tilts times azimuths, plus N itself (9 to 65 in all).
+  struct Sampling {
+    std::vector<double> tilts_deg;
+    int azimuths;
+  };
+  const std::vector<Sampling> samplings = {{{22.5, 45}, 4},    {{22.5, 45}, 8},  // the default, 17
+                                           {{15, 30, 45}, 8},  {{11.25, 22.5, 33.75, 45}, 8},
+                                           {{15, 30, 45}, 16}, {{11.25, 22.5, 33.75, 45}, 16}};
+  Hemicube warm_up(mesh, 150);  // the first gather pays for llvmpipe's shader compiles
+  PerturbedMap(mesh, {true, false}, MapSettings{})
+      .gather(scene.materials, std::vector<Rgb>(mesh.elements.size(), Rgb(0)), warm_up);
+  for (const Sampling& sampling : samplings) {
+    MapSettings settings;
+    settings.tilts_deg = sampling.tilts_deg;
+    settings.azimuths = sampling.azimuths;
+    for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
+      PerturbedMap map(mesh, {true, false}, settings);
+      double seconds = 0;
+      if (mode == TextureMode::Gather) {
+        std::vector<Rgb> radiosity(mesh.elements.size(), Rgb(0));
+        for (std::size_t i = 0; i < mesh.elements.size(); ++i)
+          if (mesh.elements[i].material == 1) radiosity[i] = Rgb(1);
+        Hemicube hemicube(mesh, 150);
+        auto t0 = Clock::now();
+        map.gather(scene.materials, radiosity, hemicube);
+        seconds = seconds_since(t0);
+      } else {
+        ProgressiveSolver solver(mesh, scene.materials, scene.solver);
+        solver.attach_map(&map);
+        solver.run();
+        auto t0 = Clock::now();
+        map.finish_shooting(scene.materials);
+        seconds = seconds_since(t0) + solver.total_time().texture_s;
+      }
+      double err = 0, sum = 0;
+      for (std::uint32_t slot = 0; slot < map.vertex_count(); ++slot) {
+        const Vertex& v = mesh.vertices[map.vertex_of(slot)];
+        Frame frame = tangent_frame(v.normal, v.dpdu);
+        for (const Vec3& local : normals) {
+          Vec3 n = frame.to_world(local);
+          double exact =
+              mode == TextureMode::Gather ? exact_at(v.position, n) : exact_over_receiver(n);
+          err += std::abs(map.lookup(slot, local).g - exact);
+          sum += exact;
+        }
+      }
+      std::printf("perturbed,%s,%zu,%.4e,%.4e\n", mode == TextureMode::Gather ? "gather" : "shoot",
+                  map.directions().size(), seconds / double(map.vertex_count()), err / sum);
+    }
+  }
+}
+
 Image solve_and_render(Scene scene, double* seconds) {
   scene.camera.width = scene.camera.height = 128;
   auto t0 = Clock::now();
@@ -161,13 +268,15 @@ void image_sweep(const std::string& name) {
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::vector<std::string> parts(argv + 1, argv + argc);
-  if (parts.empty()) parts = {"point", "cornell", "wrinkled-box"};
+  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box"};
   try {
     std::printf("part,method,setting,seconds,error\n");
     for (const std::string& part : parts) {
       if (part == "point") {
         point_sweep("far", 1.0);
         point_sweep("near", 0.15);
+      } else if (part == "perturbed") {
+        perturbed_sweep();
       } else {
         image_sweep(part);
       }

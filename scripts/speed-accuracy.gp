@@ -1,9 +1,9 @@
-# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Three panels, error
+# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Four panels, error
 # against time on log scales, one curve per method: lower left is better.
 set datafile separator ","
-set terminal pngcairo size 1500,480 font ",10"
+set terminal pngcairo size 1300,950 font ",10"
 set output "docs/speed-accuracy.png.tmp"
-set multiplot layout 1,3
+set multiplot layout 2,2
 set logscale xy
 set grid
 set format x "10^{%L}"
@@ -20,6 +20,14 @@ plot rows("point-far","hemicube") using 4:5 w lp pt 7 t "hemi-cube R 16-512, dis
      rows("point-far","ray_cast") using 4:5 w lp pt 5 t "ray cast n 1-256, distance 1", \
      rows("point-near","hemicube") using 4:5 w lp pt 6 t "hemi-cube, distance 0.15", \
      rows("point-near","ray_cast") using 4:5 w lp pt 4 t "ray cast, distance 0.15"
+
+set title "Perturbed radiosity B'(N') vs exact (300 normals, tilt <= 45 deg)"
+set xlabel "seconds of texture work per map vertex"
+set ylabel "mean |B' - B'_{exact}| / mean B'_{exact}"
+plot rows("perturbed","gather") using 4:5:3 w lp pt 7 t "gather (hemi-cube 150 per vertex)", \
+     rows("perturbed","gather") using 4:5:3 w labels offset 0,0.8 font ",8" notitle, \
+     rows("perturbed","shoot") using 4:5:3 w lp pt 5 t "shoot (with 256 shots)", \
+     rows("perturbed","shoot") using 4:5:3 w labels offset 0,-0.8 font ",8" notitle
 
 do for [scene in "cornell wrinkled-box"] {
   set title sprintf("%s: image vs hemi-cube 512 reference", scene)
