@@ -35,6 +35,24 @@ void expect_sane(const ProgressiveSolver& solver, const char* what) {
         << what;
 }
 
+struct Checked {
+  Mesh mesh;
+  std::vector<Rgb> radiosity;
+  EnergyLedger ledger;
+};
+
+// Solves `s` with `method` to its shot budget, checking every shot with expect_sane.
+Checked solve_checked(Scene s, FormFactorMethod method) {
+  s.solver.form_factors = method;
+  Checked out{build_mesh(s), {}, {}};
+  RayScene rays(out.mesh);
+  ProgressiveSolver solver(out.mesh, s.materials, s.solver, &rays);
+  while (!solver.done() && solver.shoot()) expect_sane(solver, name(method));
+  out.radiosity = solver.radiosity();
+  out.ledger = solver.ledger();
+  return out;
+}
+
 Material lamp(double emission) {
   Material m;
   m.reflectance = Rgb(0);
@@ -58,16 +76,12 @@ TEST(Stability, ThinObjectsCastShadows) {
                               test::quad(facing_up(4, 4, 0), 12, 12), slab},
                              0.5);
     s.materials.push_back(lamp(10));
-    s.solver.form_factors = method;
     s.solver.max_shots = 200;
-    Mesh mesh = build_mesh(s);
-    RayScene rays(mesh);
-    ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
-    while (!solver.done() && solver.shoot()) expect_sane(solver, name(method));
+    const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     double under = 0, open = 0, top = 0;
     for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
       const Element& e = mesh.elements[i];
-      double b = solver.radiosity()[i].g;
+      double b = radiosity[i].g;
       if (e.centroid.z < 0.01 && glm::length(e.centroid) < 0.3) under = std::max(under, b);
       if (e.centroid.z < 0.01 && std::abs(e.centroid.x) > 1.6) open = std::max(open, b);
       if (e.centroid.z > 1.0004 && e.normal.z > 0.9) top = std::max(top, b);
@@ -86,17 +100,12 @@ TEST(Stability, CoplanarTouchingPatchesExchangeNothing) {
          test::quad({Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0, -1, 0)}, 4, 4)},
         0.5);
     s.materials.push_back(lamp(1));
-    s.solver.form_factors = method;
-    Mesh mesh = build_mesh(s);
-    RayScene rays(mesh);
-    ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
-    while (!solver.done() && solver.shoot()) expect_sane(solver, name(method));
+    const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     for (std::size_t i = 0; i < mesh.elements.size(); ++i)
       if (mesh.elements[i].material == 0) {
-        EXPECT_EQ(solver.radiosity()[i].g, 0) << name(method);
+        EXPECT_EQ(radiosity[i].g, 0) << name(method);
       }
-    EnergyLedger l = solver.ledger();
-    EXPECT_NEAR(l.escaped.g, l.emitted.g, 1e-9) << "all of it leaves the open plane";
+    EXPECT_NEAR(ledger.escaped.g, ledger.emitted.g, 1e-9) << "all of it leaves the open plane";
   }
 }
 
@@ -113,15 +122,11 @@ TEST(Stability, SliverTrianglesStayFinite) {
     Scene s = test::scene_of(
         {test::quad(test::rectangle_facing_down(0.5, 0.5, 2), 1, 1, 1), mesh_object}, 0.5);
     s.materials.push_back(lamp(10));
-    s.solver.form_factors = method;
     s.solver.max_shots = 50;
-    Mesh mesh = build_mesh(s);
-    RayScene rays(mesh);
-    ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
-    while (!solver.done() && solver.shoot()) expect_sane(solver, name(method));
+    const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     double lit = 0;
     for (std::size_t i = 0; i < mesh.elements.size(); ++i)
-      if (mesh.elements[i].material == 0) lit = std::max(lit, solver.radiosity()[i].g);
+      if (mesh.elements[i].material == 0) lit = std::max(lit, radiosity[i].g);
     EXPECT_GT(lit, 0) << name(method);
   }
 }
