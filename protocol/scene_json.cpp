@@ -463,7 +463,7 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   Node n(settings, pointer);
   n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
                 "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map",
-                "form_factors", "alias_pixels"});
+                "form_factors", "alias_pixels", "adaptive"});
   if (auto v = n.get("hemicube_resolution")) {
     s.hemicube_resolution = int(v->integer(Limits::kMinHemicube, Limits::kMaxHemicube));
     if (s.hemicube_resolution % 2)
@@ -487,6 +487,14 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
       v->fail("unknown form factor method \"" + f + "\" (expected hemicube or ray_cast)");
   }
   if (auto v = n.get("alias_pixels")) s.alias_pixels = v->in_range(0, 1024, false);
+  if (auto v = n.get("adaptive")) {
+    v->allow_only({"levels", "threshold"});
+    if (auto l = v->get("levels")) s.adaptive_levels = int(l->integer(0, 4));
+    if (auto t = v->get("threshold")) {
+      s.adaptive_threshold = t->in_range(0, 1, true);
+      if (!(s.adaptive_threshold > 0)) t->fail("must be greater than 0");
+    }
+  }
   if (auto v = n.get("texture")) {
     std::string t = v->string();
     if (t == "none")

@@ -14,7 +14,8 @@ namespace bumprad {
 namespace {
 
 constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
-constexpr std::uint32_t kVersion = 1;
+// Version 2 added the adaptive refinements; version 1 files (none) still load.
+constexpr std::uint32_t kVersion = 2;
 static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
 
 // FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
@@ -97,6 +98,11 @@ void save_solution(const std::filesystem::path& path, std::string_view scene_jso
   w.put(s.seconds_solve);
   w.put(s.unshot_fraction);
   w.put(s.seconds_texture);
+  w.put(std::uint64_t(solution.refinements.size()));
+  for (const auto& split : solution.refinements) {
+    w.put(std::uint64_t(split.size()));
+    for (std::uint32_t i : split) w.put(i);
+  }
   w.put(fnv1a(w.bytes().data(), w.bytes().size()));
   write_file_atomically(path, w.bytes());
 }
@@ -112,7 +118,7 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
     throw SolutionFileError(name + ": not a bumprad solution file");
   Reader header(std::string_view(bytes).substr(sizeof kMagic), name);
   std::uint32_t version = header.get<std::uint32_t>();
-  if (version != kVersion)
+  if (version != kVersion && version != 1)
     throw SolutionFileError(name + ": solution file format version " + std::to_string(version) +
                             "; this build reads version " + std::to_string(kVersion));
   const std::size_t body = bytes.size() - sizeof(std::uint64_t);
@@ -139,8 +145,23 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
   s.stats.seconds_solve = r.get<double>();
   s.stats.unshot_fraction = r.get<double>();
   s.stats.seconds_texture = r.get<double>();
-
-  s.mesh = std::make_unique<Mesh>(build_mesh(out.scene));
+  if (version >= 2) {
+    std::uint64_t levels = r.get<std::uint64_t>();
+    if (levels > 16) throw SolutionFileError(name + ": implausible refinement levels");
+    s.refinements.resize(levels);
+    for (auto& split : s.refinements) {
+      std::uint64_t n = r.get<std::uint64_t>();
+      if (n > std::uint64_t(Limits::kMaxElements))
+        throw SolutionFileError(name + ": implausible refinement size");
+      split.resize(n);
+      for (std::uint32_t& i : split) i = r.get<std::uint32_t>();
+    }
+  }
+  try {
+    s.mesh = refined_mesh(out.scene, s.refinements);
+  } catch (const std::invalid_argument& e) {
+    throw SolutionFileError(name + ": its refinements do not fit its scene's mesh: " + e.what());
+  }
   s.map = make_map(out.scene, *s.mesh);
   const std::size_t samples = s.map ? s.map->vertex_count() * s.map->directions().size() : 0;
   if (s.radiosity.size() != s.mesh->elements.size() || s.display.size() != s.radiosity.size() ||

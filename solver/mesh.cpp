@@ -145,6 +145,30 @@ int triangle_subdivisions(const TriangleMeshShape& m, const std::array<std::uint
   return count_for(longest, size, 1);
 }
 
+}  // namespace
+
+bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e) {
+  Vec3 sum_n(0), sum_c(0);
+  double sum_a = 0;
+  for (int t = 1; t + 1 < e.vertex_count; ++t) {
+    Vec3 a = vertices[e.v[0]].position, b = vertices[e.v[t]].position,
+         c = vertices[e.v[t + 1]].position;
+    Vec3 n = glm::cross(b - a, c - a);
+    double area = 0.5 * glm::length(n);
+    sum_n += n;
+    sum_c += area * (a + b + c) / 3.0;
+    sum_a += area;
+  }
+  double len = glm::length(sum_n);
+  if (!(sum_a > 0) || !(len > 0)) return false;
+  e.area = sum_a;
+  e.centroid = sum_c / sum_a;
+  e.normal = sum_n / len;
+  return true;
+}
+
+namespace {
+
 // Builds elements and patches for one surface at a time, welding vertices that coincide
 // (sphere poles, cylinder seams, shared triangle-mesh edges) so that the surface is smooth.
 class SurfaceBuilder {
@@ -210,7 +234,7 @@ class SurfaceBuilder {
     e.object = object_index_;
     e.material = object_.material;
     if (object_.flip_normals) std::reverse(e.v.begin(), e.v.begin() + m);
-    if (!finish_element(e)) return;
+    if (!compute_element_geometry(mesh_.vertices, e)) return;
     pending_[local_patch].push_back(e);
   }
 
@@ -238,27 +262,6 @@ class SurfaceBuilder {
   }
 
  private:
-  // Area, centroid and normal from the two triangles (v0,v1,v2) and (v0,v2,v3).
-  bool finish_element(Element& e) const {
-    const auto& vs = mesh_.vertices;
-    Vec3 sum_n(0), sum_c(0);
-    double sum_a = 0;
-    for (int t = 1; t + 1 < e.vertex_count; ++t) {
-      Vec3 a = vs[e.v[0]].position, b = vs[e.v[t]].position, c = vs[e.v[t + 1]].position;
-      Vec3 n = glm::cross(b - a, c - a);
-      double area = 0.5 * glm::length(n);
-      sum_n += n;
-      sum_c += area * (a + b + c) / 3.0;
-      sum_a += area;
-    }
-    double len = glm::length(sum_n);
-    if (!(sum_a > 0) || !(len > 0)) return false;
-    e.area = sum_a;
-    e.centroid = sum_c / sum_a;
-    e.normal = sum_n / len;
-    return true;
-  }
-
   Mesh& mesh_;
   const Object& object_;
   std::uint32_t object_index_;

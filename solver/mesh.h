@@ -63,4 +63,8 @@ std::size_t estimate_element_count(const Object& object, double default_size);
 
 Mesh build_mesh(const Scene& scene);
 
+// Area, centroid and normal of `e` from its corners (the triangles (v0,v1,v2) and
+// (v0,v2,v3)); false if it is degenerate.
+bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e);
+
 }  // namespace bumprad

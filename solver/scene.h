@@ -159,6 +159,11 @@ struct SolverSettings {
   // Hemi-cube shots: receivers expected to cover fewer pixels than this get ray-cast form
   // factors instead (aliasing); 0 turns the fallback off.
   double alias_pixels = 1;
+  // Adaptive subdivision (Cohen et al. 1986): after a solve, split elements whose radiosity
+  // differs from a neighbour's by more than adaptive_threshold (relative), and solve again,
+  // at most adaptive_levels times. 0 levels: the mesh stays as built.
+  int adaptive_levels = 0;
+  double adaptive_threshold = 0.1;
   std::uint32_t seed = 1;
   TextureMode texture = TextureMode::Shoot;
   MapSettings map;

@@ -1,15 +1,18 @@
 #include "solver/solution.h"
 
 #include "solver/stopwatch.h"
+#include "solver/subdivision.h"
 #include "solver/view_pass.h"
 
 namespace bumprad {
-namespace {}  // namespace
+namespace {
 
-Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token stop) {
+// One progressive solve on a given mesh, with its map and rays.
+Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepCallback& on_step,
+                  std::stop_token stop) {
   auto t0 = Clock::now();
   Solution out;
-  out.mesh = std::make_unique<Mesh>(build_mesh(scene));
+  out.mesh = std::move(mesh_in);
   const Mesh& mesh = *out.mesh;
 
   out.map = make_map(scene, mesh);
@@ -52,6 +55,46 @@ Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token 
   out.stats.seconds_solve = seconds_since(t0) - texture_s;
   count_map_stats(scene, out);
   return out;
+}
+
+}  // namespace
+
+std::unique_ptr<Mesh> refined_mesh(const Scene& scene,
+                                   const std::vector<std::vector<std::uint32_t>>& refinements) {
+  auto mesh = std::make_unique<Mesh>(build_mesh(scene));
+  for (const auto& split : refinements) {
+    for (std::uint32_t i : split)
+      if (i >= mesh->elements.size())
+        throw std::invalid_argument("a refinement names element " + std::to_string(i) +
+                                    " of a mesh of " + std::to_string(mesh->elements.size()));
+    mesh = std::make_unique<Mesh>(subdivide(*mesh, split));
+  }
+  return mesh;
+}
+
+// Adaptive subdivision: solve, split where neighbours differ, solve the finer mesh again,
+// up to adaptive_levels times. Each level is a whole progressive solve; the step callback
+// sees them all.
+Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token stop) {
+  auto t0 = Clock::now();
+  std::vector<std::vector<std::uint32_t>> refinements;
+  auto mesh = std::make_unique<Mesh>(build_mesh(scene));
+  for (int level = 0;; ++level) {
+    Solution out = solve_on(scene, std::move(mesh), on_step, stop);
+    out.refinements = refinements;
+    if (level >= scene.solver.adaptive_levels || stop.stop_requested()) {
+      out.stats.seconds_solve = seconds_since(t0) - out.stats.seconds_texture;
+      return out;
+    }
+    auto split = elements_to_split(*out.mesh, out.display, scene.solver.adaptive_threshold);
+    if (split.empty() ||
+        out.mesh->elements.size() + 3 * split.size() > std::size_t(Limits::kMaxElements)) {
+      out.stats.seconds_solve = seconds_since(t0) - out.stats.seconds_texture;
+      return out;
+    }
+    refinements.push_back(split);
+    mesh = std::make_unique<Mesh>(subdivide(*out.mesh, split));
+  }
 }
 
 std::unique_ptr<PerturbedMap> make_map(const Scene& scene, const Mesh& mesh) {

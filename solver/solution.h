@@ -23,6 +23,9 @@ struct Solution {
   std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
   std::unique_ptr<RayScene> rays;
   SolveStats stats;
+  // Adaptive subdivision: per level, the elements split (indices into that level's mesh).
+  // build_mesh then these splits give the mesh back (refined_mesh).
+  std::vector<std::vector<std::uint32_t>> refinements;
 };
 
 // Called after every refinement step with the snapshot and the solution as it stands: its
@@ -34,6 +37,11 @@ using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 // `stop` ends the solve within one shot (a cancelled job): the solution is then partial and
 // its map unfinished, and no final step is reported.
 Solution solve(const Scene& scene, const StepCallback& on_step = {}, std::stop_token stop = {});
+
+// The scene's mesh with a solution's refinements applied; throws std::invalid_argument if
+// they do not fit it.
+std::unique_ptr<Mesh> refined_mesh(const Scene& scene,
+                                   const std::vector<std::vector<std::uint32_t>>& refinements);
 
 // The (empty) perturbed map for `scene` on its mesh: null when no object has a bump
 // function or the texture mode is none. Solving and loading a saved solution both use it.

@@ -368,6 +368,29 @@ TEST(SceneJson, TextureModeAndMapSettings) {
   expect_rejected(d, "/solver/map/azimuths", "must be between 3 and 64");
 }
 
+TEST(SceneJson, FormFactorMethodAndAdaptiveSubdivision) {
+  json d = minimal();
+  d["solver"] = {{"form_factors", "ray_cast"},
+                 {"alias_pixels", 0},
+                 {"adaptive", {{"levels", 2}, {"threshold", 0.25}}}};
+  Scene s = parse_scene(d);
+  EXPECT_EQ(s.solver.form_factors, FormFactorMethod::RayCast);
+  EXPECT_EQ(s.solver.alias_pixels, 0);
+  EXPECT_EQ(s.solver.adaptive_levels, 2);
+  EXPECT_EQ(s.solver.adaptive_threshold, 0.25);
+  EXPECT_EQ(parse_scene(minimal()).solver.form_factors, FormFactorMethod::Hemicube);
+  d["solver"] = {{"form_factors", "monte_carlo"}};
+  expect_rejected(d, "/solver/form_factors", "expected hemicube or ray_cast");
+  d["solver"] = {{"alias_pixels", -1}};
+  expect_rejected(d, "/solver/alias_pixels", "");
+  d["solver"] = {{"adaptive", {{"levels", 5}}}};
+  expect_rejected(d, "/solver/adaptive/levels", "");
+  d["solver"] = {{"adaptive", {{"threshold", 0}}}};
+  expect_rejected(d, "/solver/adaptive/threshold", "greater than 0");
+  d["solver"] = {{"adaptive", {{"depth", 1}}}};
+  expect_rejected(d, "/solver/adaptive/depth", "unknown key");
+}
+
 TEST(SceneJson, SolverOverridesUseTheSameChecks) {
   SolverSettings s;
   apply_solver_settings(json{{"max_shots", 7}, {"seed", 3}}, s);

@@ -71,6 +71,22 @@ TEST_F(SolutionFile, RoundTripIsBitExact) {
   EXPECT_EQ(render(back.scene, back.solution).rgb, render(scene_, solution_).rgb);
 }
 
+// Adaptively refined meshes are not a function of the scene alone: the file keeps the
+// splits, and loading rebuilds the same refined mesh.
+TEST_F(SolutionFile, AdaptiveRefinementsRoundTrip) {
+  auto doc = nlohmann::json::parse(text_);
+  doc["solver"]["adaptive"] = {{"levels", 1}};
+  text_ = doc.dump();
+  scene_ = parse_scene(std::string_view(text_));
+  LoadedSolution back = load_solution(saved());
+  ASSERT_EQ(solution_.refinements.size(), 1u);
+  EXPECT_GT(solution_.refinements[0].size(), 0u);
+  EXPECT_EQ(back.solution.refinements, solution_.refinements);
+  EXPECT_EQ(back.solution.mesh->elements.size(), solution_.mesh->elements.size());
+  EXPECT_EQ(back.solution.radiosity, solution_.radiosity);
+  EXPECT_EQ(render(back.scene, back.solution).rgb, render(scene_, solution_).rgb);
+}
+
 TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   fs::path p = saved();
   std::string good = bytes(p);
@@ -87,7 +103,7 @@ TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   std::string version = good;
   version[8] = 7;
   write(bad, version);
-  expect_refused(bad, "solution file format version 7; this build reads version 1");
+  expect_refused(bad, "solution file format version 7; this build reads version 2");
   write(bad, "\x89PNG\r\n\x1a\n and then some");
   expect_refused(bad, "not a bumprad solution file");
   expect_refused(dir_ / "missing.bumprad", "cannot open");
