@@ -1,5 +1,5 @@
 // Speed against accuracy: the sweep behind docs/speed-accuracy.png (scripts/chart.sh).
-//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box] > CSV
+//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box] [elements]
 // Writes CSV rows `part,method,setting,seconds,error`:
 //  - part "point": a point form factor against Lambert's exact value, over 200 random
 //    receivers (tilted up to 60 degrees) below a 1.2 x 0.8 rectangle at distance ~1 ("far")
@@ -12,6 +12,8 @@
 //    reference solved with a 512 hemi-cube. seconds: the solve; error: mean |I - I_ref| /
 //    mean I_ref over the pixels. Methods: hemi-cube at R with the aliasing fallback at 0
 //    (off), 1 (the default) and 4 pixels, and ray-cast form factors.
+//  - part "elements": cornell's image error against its element count (the setting column),
+//    uniform meshes against adaptive ones (see element_sweep).
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -262,13 +264,50 @@ void image_sweep(const std::string& name) {
   std::printf("%s,ray_cast,16,%.4e,%.4e\n", name.c_str(), seconds, image_error(img, reference));
 }
 
+// Part "elements": model no more than the scene needs. cornell's image against a reference
+// meshed at half the default element size, for uniform meshes (element size 2x to 0.75x the
+// default) and for adaptive ones grown from the 2x mesh (1 and 2 levels). seconds: the
+// solve; setting: elements.
+void element_sweep() {
+  Scene base = load_scene("builtin:cornell");
+  base.solver.max_shots = 4000;
+  base.solver.unshot_fraction = 0.002;
+  const double size = default_element_size(base);
+  double seconds = 0;
+  Scene ref = base;
+  ref.solver.element_size = size / 2;
+  ref.solver.hemicube_resolution = 300;
+  Image reference = solve_and_render(ref, &seconds);
+  std::fprintf(stderr, "cornell: reference (elements of %.1f) solved in %.1f s\n", size / 2,
+               seconds);
+  auto run = [&](const char* method, Scene s) {
+    s.camera.width = s.camera.height = 128;
+    auto t0 = Clock::now();
+    Solution solution = solve(s);
+    double t = seconds_since(t0);
+    std::printf("elements,%s,%zu,%.4e,%.4e\n", method, solution.mesh->elements.size(), t,
+                image_error(render(s, solution), reference));
+  };
+  for (double scale : {2.0, 1.5, 1.0, 0.75}) {
+    Scene s = base;
+    s.solver.element_size = size * scale;
+    run("uniform", s);
+  }
+  for (int levels : {1, 2}) {
+    Scene s = base;
+    s.solver.element_size = size * 2;
+    s.solver.adaptive_levels = levels;
+    run("adaptive", s);
+  }
+}
+
 }  // namespace
 }  // namespace bumprad
 
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::vector<std::string> parts(argv + 1, argv + argc);
-  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box"};
+  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box", "elements"};
   try {
     std::printf("part,method,setting,seconds,error\n");
     for (const std::string& part : parts) {
@@ -277,6 +316,8 @@ int main(int argc, char** argv) {
         point_sweep("near", 0.15);
       } else if (part == "perturbed") {
         perturbed_sweep();
+      } else if (part == "elements") {
+        element_sweep();
       } else {
         image_sweep(part);
       }

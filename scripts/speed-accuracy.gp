@@ -1,9 +1,9 @@
-# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Four panels, error
+# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Five panels, error
 # against time on log scales, one curve per method: lower left is better.
 set datafile separator ","
-set terminal pngcairo size 1300,950 font ",10"
+set terminal pngcairo size 1300,1400 font ",10"
 set output "docs/speed-accuracy.png.tmp"
-set multiplot layout 2,2
+set multiplot layout 3,2
 set logscale xy
 set grid
 set format x "10^{%L}"
@@ -38,6 +38,12 @@ do for [scene in "cornell wrinkled-box"] {
        rows(scene,"hemicube_alias_4") using 4:5 w lp pt 4 t "+ fallback < 4 pixels", \
        rows(scene,"ray_cast") using 4:5 w p pt 5 ps 1.5 t "ray cast, 16 samples per patch"
 }
+set title "cornell: elements vs image error (reference: elements of half the default size)"
+set xlabel "elements"
+set ylabel "mean |I - I_{ref}| / mean I_{ref}"
+set format x "%g"
+plot rows("elements","uniform") using 3:5 w lp pt 7 t "uniform, element size 2x to 0.75x the default", \
+     rows("elements","adaptive") using 3:5 w lp pt 5 t "adaptive from 2x, 1 and 2 levels"
 unset multiplot
 set output
 system("mv docs/speed-accuracy.png.tmp docs/speed-accuracy.png")
