@@ -378,11 +378,19 @@ void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step,
   if (on_step && !stop.stop_requested()) on_step(snapshot());
 }
 
+// Power still to be shot: diffuse (unshot radiosity times area) and queued specular.
+Rgb ProgressiveSolver::unshot_power() const {
+  Rgb unshot(0);
+  for (std::size_t i = 0; i < unshot_.size(); ++i) {
+    unshot += unshot_[i] * mesh_.elements[i].area;
+    for (const auto& q : queue_[i]) unshot += q.second;
+  }
+  return unshot;
+}
+
+// The ambient term counts all of it: light a mirror has yet to reflect will arrive too.
 std::vector<Rgb> ProgressiveSolver::display_radiosity() const {
-  Rgb unshot_mean(0);
-  for (std::size_t i = 0; i < unshot_.size(); ++i)
-    unshot_mean += unshot_[i] * mesh_.elements[i].area;
-  Rgb ambient = total_area_ > 0 ? ambient_factor_ * unshot_mean / total_area_ : Rgb(0);
+  Rgb ambient = total_area_ > 0 ? ambient_factor_ * unshot_power() / total_area_ : Rgb(0);
   std::vector<Rgb> out(radiosity_.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = radiosity_[i] + reflectance_[i] * ambient;
   return out;
@@ -393,12 +401,7 @@ Snapshot ProgressiveSolver::snapshot() const {
 }
 
 EnergyLedger ProgressiveSolver::ledger() const {
-  Rgb unshot(0);
-  for (std::size_t i = 0; i < unshot_.size(); ++i) {
-    unshot += unshot_[i] * mesh_.elements[i].area;
-    for (const auto& q : queue_[i]) unshot += q.second;
-  }
-  return {emitted_, absorbed_, escaped_, unshot};
+  return {emitted_, absorbed_, escaped_, unshot_power()};
 }
 
 }  // namespace bumprad

@@ -70,8 +70,9 @@ class ProgressiveSolver {
   int shots() const { return shots_; }
   double unshot_fraction() const;
   const std::vector<Rgb>& radiosity() const { return radiosity_; }
-  // B_i + rho_i * ambient: Cohen 1988's estimate of the light not yet shot, so early
-  // previews are not dark. It tends to zero as the solve converges.
+  // B_i + rho_i * ambient: Cohen 1988's estimate of the light not yet shot (diffuse and
+  // queued specular), so early previews are not dark. It tends to zero as the solve
+  // converges.
   std::vector<Rgb> display_radiosity() const;
   Snapshot snapshot() const;
   EnergyLedger ledger() const;
@@ -79,6 +80,7 @@ class ProgressiveSolver {
   const ShotTiming& total_time() const { return total_; }
 
  private:
+  Rgb unshot_power() const;
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
   // F from the patch to the element by rays (Wallace et al. 1989), exact where near.

@@ -101,6 +101,28 @@ TEST(Specular, EnergyBalancesAfterEveryShotWithSpecularTransfer) {
   }
 }
 
+// Previews: the ambient term must count the power a mirror has queued but not yet
+// reflected, or mirror scenes preview too dark (the ledger's unshot power, all of it).
+TEST(Specular, AmbientCountsQueuedSpecularPower) {
+  Scene s = mirror_scene(0);
+  Mesh mesh = build_mesh(s);
+  ProgressiveSolver solver(mesh, s.materials, s.solver);
+  ASSERT_TRUE(solver.shoot());  // the lamp shoots; the mirror queues what it received
+  double total_area = 0, mean_rho = 0;
+  for (const Element& e : mesh.elements) {
+    total_area += e.area;
+    mean_rho += s.materials[std::size_t(e.material)].reflectance.g * e.area;
+  }
+  mean_rho /= total_area;
+  const double ambient = solver.ledger().unshot.g / total_area / (1 - mean_rho);
+  const std::size_t wall = mesh.elements.size() - 1;
+  // The mirror has no diffuse part: everything unshot now is queued specular power, which
+  // an ambient term of diffuse power alone would leave out (it was zero here).
+  ASSERT_GT(ambient, 0);
+  EXPECT_NEAR(solver.display_radiosity()[wall].g - solver.radiosity()[wall].g, kWallRho * ambient,
+              1e-12);
+}
+
 TEST(Specular, BumpsLitThroughAMirrorGetTheirMapFromTheReflection) {
   // The wall lit only through the mirror carries a perturbed map: its tilted samples
   // must follow k_s E F(wall(N') -> emitter image), which Lambert gives at any tilt.
