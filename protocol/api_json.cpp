@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocol/builtin_scenes.h"
+#include "protocol/json_node.h"
 
 namespace bumprad {
 namespace {
@@ -25,16 +26,6 @@ constexpr int kDefaultSteps = 20;
 
 void require_object(const json& value, const std::string& pointer, const char* what) {
   if (!value.is_object()) throw SceneError(pointer, std::string("must be ") + what);
-}
-
-void allow_only(const json& body, std::initializer_list<std::string_view> keys, const char* what) {
-  for (auto it = body.begin(); it != body.end(); ++it)
-    if (std::find(keys.begin(), keys.end(), it.key()) == keys.end()) {
-      std::string list;
-      for (std::string_view k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
-      throw SceneError("/" + it.key(),
-                       std::string("unknown key for ") + what + " (expected one of: " + list + ")");
-    }
 }
 
 }  // namespace
@@ -193,7 +184,7 @@ std::string retexture_request_json(std::string_view bumps_json, ImageFormat form
 JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
   json request = parse_json(body);
   require_object(request, "", "a JSON object");
-  allow_only(request, {"scene", "builtin", "bumps", "solver", "preview_every"}, "a job");
+  Node(request, "").allow_only({"scene", "builtin", "bumps", "solver", "preview_every"}, "job");
 
   JobRequest out;
   json scene;
@@ -201,18 +192,17 @@ JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
   if (request.contains("scene") == request.contains("builtin"))
     throw SceneError("/scene", "give either \"scene\" (inline JSON) or \"builtin\" (a name)");
   if (request.contains("builtin")) {
-    const json& name = request["builtin"];
-    if (!name.is_string()) throw SceneError("/builtin", "must be a string");
-    auto text = find_builtin_scene(name.get<std::string>());
+    const std::string name = Node(request["builtin"], "/builtin").string();
+    auto text = find_builtin_scene(name);
     if (!text) {
       std::string names;
       for (const auto& s : builtin_scenes())
         names += (names.empty() ? "" : ", ") + std::string(s.name);
-      throw SceneError("/builtin", "unknown built-in scene \"" + name.get<std::string>() +
-                                       "\" (there are: " + names + ")");
+      throw SceneError("/builtin",
+                       "unknown built-in scene \"" + name + "\" (there are: " + names + ")");
     }
     scene = json::parse(*text);
-    out.scene_name = "builtin:" + name.get<std::string>();
+    out.scene_name = "builtin:" + name;
   } else {
     scene = request["scene"];
     require_object(scene, "/scene", "a scene object");
@@ -259,7 +249,7 @@ RetextureRequest parse_retexture_request(std::string_view body, const Scene& sol
                                          const ImageFiles& files) {
   json request = body.empty() ? json::object() : parse_json(body);
   require_object(request, "", "a JSON object");
-  allow_only(request, {"bumps", "camera", "format"}, "a re-texture request");
+  Node(request, "").allow_only({"bumps", "camera", "format"}, "re-texture request");
   RetextureRequest out{solved, ImageFormat::Png};
   if (request.contains("bumps")) {
     require_object(request["bumps"], "/bumps", "an object of bump functions by name");

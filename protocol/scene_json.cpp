@@ -6,12 +6,12 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "protocol/json_node.h"
 #include "solver/image.h"
 #include "solver/mesh.h"
 #include "solver/texture.h"
@@ -20,146 +20,6 @@ namespace bumprad {
 namespace {
 
 using json = nlohmann::json;
-
-std::string describe(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
-std::string escape_token(std::string_view key) {
-  std::string out;
-  for (char c : key) {
-    if (c == '~')
-      out += "~0";
-    else if (c == '/')
-      out += "~1";
-    else
-      out += c;
-  }
-  return out;
-}
-
-// A JSON value and where it sits in the document, with typed, checked accessors.
-class Node {
- public:
-  Node(const json& value, std::string pointer) : value_(value), pointer_(std::move(pointer)) {}
-
-  [[noreturn]] void fail(const std::string& reason) const { throw SceneError(pointer_, reason); }
-  const std::string& pointer() const { return pointer_; }
-  const json& value() const { return value_; }
-
-  Node operator[](std::string_view key) const {
-    auto it = object().find(std::string(key));
-    if (it == value_.end()) {
-      Node missing(value_, pointer_ + "/" + escape_token(key));
-      missing.fail("is required");
-    }
-    return Node(*it, pointer_ + "/" + escape_token(key));
-  }
-  std::optional<Node> get(std::string_view key) const {
-    auto it = object().find(std::string(key));
-    if (it == value_.end()) return std::nullopt;
-    return Node(*it, pointer_ + "/" + escape_token(key));
-  }
-  Node operator[](std::size_t i) const {
-    return Node(value_[i], pointer_ + "/" + std::to_string(i));
-  }
-
-  const json& object() const {
-    if (!value_.is_object()) fail("must be an object");
-    return value_;
-  }
-  // Rejects keys not in `keys`; `what` names the kind of object in the message.
-  void allow_only(const std::vector<std::string_view>& keys, const std::string& what = "") const {
-    for (auto it = object().begin(); it != value_.end(); ++it) {
-      if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
-      std::string list;
-      for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
-      Node(*it, pointer_ + "/" + escape_token(it.key()))
-          .fail("unknown key" + (what.empty() ? "" : " for a " + what) +
-                " (expected one of: " + list + ")");
-    }
-  }
-  std::size_t array(std::size_t min, std::size_t max) const {
-    if (!value_.is_array()) fail("must be an array");
-    std::size_t n = value_.size();
-    if (n < min || n > max) {
-      if (min == max)
-        fail("must have exactly " + std::to_string(min) + " entries (got " + std::to_string(n) +
-             ")");
-      fail("must have between " + std::to_string(min) + " and " + std::to_string(max) +
-           " entries (got " + std::to_string(n) + ")");
-    }
-    return n;
-  }
-
-  double number() const {
-    if (!value_.is_number()) fail("must be a number");
-    double x = value_.get<double>();
-    if (!std::isfinite(x)) fail("must be a finite number");
-    return x;
-  }
-  double positive() const {
-    double x = number();
-    if (!(x > 0)) fail("must be greater than 0 (got " + describe(x) + ")");
-    return within_limit(x);
-  }
-  // Coordinates and sizes stay within +-Limits::kMaxMagnitude.
-  double within_limit(double x) const {
-    if (std::abs(x) > Limits::kMaxMagnitude)
-      fail("must be within +-" + describe(Limits::kMaxMagnitude) + " (got " + describe(x) + ")");
-    return x;
-  }
-  double in_range(double lo, double hi, bool hi_open) const {
-    double x = number();
-    if (x < lo || x > hi || (hi_open && x == hi))
-      fail("must be in [" + describe(lo) + ", " + describe(hi) + (hi_open ? ")" : "]") + " (got " +
-           describe(x) + ")");
-    return x;
-  }
-  long long integer(long long lo, long long hi) const {
-    if (!value_.is_number_integer()) {
-      number();
-      fail("must be an integer");
-    }
-    long long x = value_.is_number_unsigned() && value_.get<std::uint64_t>() > std::uint64_t(hi)
-                      ? hi + 1
-                      : value_.get<long long>();
-    if (x < lo || x > hi)
-      fail("must be between " + std::to_string(lo) + " and " + std::to_string(hi) + " (got " +
-           value_.dump() + ")");
-    return x;
-  }
-  bool boolean() const {
-    if (!value_.is_boolean()) fail("must be true or false");
-    return value_.get<bool>();
-  }
-  std::string string() const {
-    if (!value_.is_string()) fail("must be a string");
-    return value_.get<std::string>();
-  }
-  Vec3 vec3() const {
-    array(3, 3);
-    auto at = [&](std::size_t i) { return (*this)[i].within_limit((*this)[i].number()); };
-    return {at(0), at(1), at(2)};
-  }
-  // An RGB triple or one number for all three channels, each in [lo, hi) or [lo, hi].
-  Rgb rgb(double lo, double hi, bool hi_open) const {
-    if (value_.is_number()) {
-      double x = in_range(lo, hi, hi_open);
-      return Rgb(x);
-    }
-    if (!value_.is_array()) fail("must be a number or an array of 3 numbers");
-    array(3, 3);
-    return {(*this)[0].in_range(lo, hi, hi_open), (*this)[1].in_range(lo, hi, hi_open),
-            (*this)[2].in_range(lo, hi, hi_open)};
-  }
-
- private:
-  const json& value_;
-  std::string pointer_;
-};
 
 constexpr double kHuge = 1e300;
 
@@ -176,11 +36,8 @@ glm::dvec2 offset_pair(const Node& n) {
 }
 
 Wrap parse_wrap(const Node& n) {
-  std::string w = n.string();
-  if (w == "repeat") return Wrap::Repeat;
-  if (w == "clamp") return Wrap::Clamp;
-  if (w == "mirror") return Wrap::Mirror;
-  n.fail("unknown wrap mode \"" + w + "\" (expected repeat, clamp or mirror)");
+  return n.one_of<Wrap>(
+      {{"repeat", Wrap::Repeat}, {"clamp", Wrap::Clamp}, {"mirror", Wrap::Mirror}}, "wrap mode");
 }
 
 // Image files are read when the scene is parsed, from where `files` allows.
@@ -282,26 +139,23 @@ Material parse_material(const Node& n, const std::string& name, const ImageFiles
 }
 
 BumpFunction parse_bump(const Node& n, const std::string& name, const ImageFiles& files) {
-  static const std::map<std::string, BumpType> kTypes = {
-      {"noise", BumpType::Noise},     {"wrinkles", BumpType::Wrinkles},
-      {"bricks", BumpType::Bricks},   {"tiles", BumpType::Tiles},
-      {"dimples", BumpType::Dimples}, {"cylinder", BumpType::Cylinder},
-      {"image", BumpType::Image}};
-  std::string type = n["type"].string();
-  auto it = kTypes.find(type);
-  if (it == kTypes.end())
-    n["type"].fail("unknown bump type \"" + type +
-                   "\" (expected noise, wrinkles, bricks, tiles, dimples, cylinder or image)");
   BumpFunction b;
   b.name = name;
-  b.type = it->second;
+  b.type = n["type"].one_of<BumpType>({{"noise", BumpType::Noise},
+                                       {"wrinkles", BumpType::Wrinkles},
+                                       {"bricks", BumpType::Bricks},
+                                       {"tiles", BumpType::Tiles},
+                                       {"dimples", BumpType::Dimples},
+                                       {"cylinder", BumpType::Cylinder},
+                                       {"image", BumpType::Image}},
+                                      "bump type");
   std::vector<std::string_view> keys = {"type", "amplitude", "scale", "offset"};
   if (b.type == BumpType::Noise) keys.insert(keys.end(), {"octaves", "seed"});
   if (b.type == BumpType::Wrinkles || b.type == BumpType::Cylinder) keys.push_back("direction_deg");
   if (b.type == BumpType::Bricks || b.type == BumpType::Tiles) keys.push_back("mortar");
   if (b.type == BumpType::Dimples) keys.push_back("radius");
   if (b.type == BumpType::Image) keys.insert(keys.end(), {"file", "wrap"});
-  n.allow_only(keys, type + " bump");
+  n.allow_only(keys, n["type"].string() + " bump");
   if (auto v = n.get("amplitude")) b.amplitude = v->in_range(0, kHuge, false);
   if (auto v = n.get("scale")) b.scale = scale_pair(*v);
   if (auto v = n.get("offset")) b.offset = offset_pair(*v);
@@ -477,15 +331,10 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   if (auto v = n.get("preview_every")) s.preview_every = int(v->integer(1, Limits::kMaxShots));
   if (auto v = n.get("rotate_hemicube")) s.rotate_hemicube = v->boolean();
   if (auto v = n.get("seed")) s.seed = std::uint32_t(v->integer(0, 0xffffffffLL));
-  if (auto v = n.get("form_factors")) {
-    std::string f = v->string();
-    if (f == "hemicube")
-      s.form_factors = FormFactorMethod::Hemicube;
-    else if (f == "ray_cast")
-      s.form_factors = FormFactorMethod::RayCast;
-    else
-      v->fail("unknown form factor method \"" + f + "\" (expected hemicube or ray_cast)");
-  }
+  if (auto v = n.get("form_factors"))
+    s.form_factors = v->one_of<FormFactorMethod>(
+        {{"hemicube", FormFactorMethod::Hemicube}, {"ray_cast", FormFactorMethod::RayCast}},
+        "form factor method");
   if (auto v = n.get("alias_pixels")) s.alias_pixels = v->in_range(0, 1024, false);
   if (auto v = n.get("adaptive")) {
     v->allow_only({"levels", "threshold"});
@@ -495,17 +344,11 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
       if (!(s.adaptive_threshold > 0)) t->fail("must be greater than 0");
     }
   }
-  if (auto v = n.get("texture")) {
-    std::string t = v->string();
-    if (t == "none")
-      s.texture = TextureMode::None;
-    else if (t == "gather")
-      s.texture = TextureMode::Gather;
-    else if (t == "shoot")
-      s.texture = TextureMode::Shoot;
-    else
-      v->fail("unknown texture mode \"" + t + "\" (expected none, gather or shoot)");
-  }
+  if (auto v = n.get("texture"))
+    s.texture = v->one_of<TextureMode>({{"none", TextureMode::None},
+                                        {"gather", TextureMode::Gather},
+                                        {"shoot", TextureMode::Shoot}},
+                                       "texture mode");
   if (auto v = n.get("map")) {
     v->allow_only({"tilts_deg", "azimuths", "self_illumination"});
     if (auto t = v->get("tilts_deg")) {
