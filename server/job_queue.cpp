@@ -116,27 +116,20 @@ JobQueue::Removal JobQueue::cancel_or_delete(const std::string& id) {
     auto it = jobs_.find(id);
     if (it == jobs_.end()) return Removal::Unknown;
     job = it->second;
-    JobState state = job->record().state;
-    if (is_finished(state)) {
-      jobs_.erase(it);
-      last_used_.erase(id);
-      bytes_.erase(id);
-      cache_.remove_if([&](const auto& c) { return c.first == id; });
-    } else if (auto w = std::find(waiting_.begin(), waiting_.end(), job); w != waiting_.end()) {
+    if (!is_finished(job->record().state)) {
+      auto w = std::find(waiting_.begin(), waiting_.end(), job);
+      if (w == waiting_.end()) {
+        job->stop().request_stop();  // running: the worker records it as cancelled
+        return Removal::Cancelled;
+      }
       waiting_.erase(w);
-      job->update([](JobRecord& r) {
-        r.state = JobState::Cancelled;
-        r.finished = unix_now();
-      });
-      store_.save_record(job->record());
-      last_used_[id] = unix_now();
-      bytes_[id] = store_.bytes_used(id);
-      log_state(job->record());
-      return Removal::Cancelled;
     } else {
-      job->stop().request_stop();  // the worker records it as cancelled
-      return Removal::Cancelled;
+      forget(id);
     }
+  }
+  if (!is_finished(job->record().state)) {
+    finish(job, [](JobRecord& r) { r.state = JobState::Cancelled; });
+    return Removal::Cancelled;
   }
   store_.remove(id);
   std::fprintf(stderr, "job %s deleted\n", id.c_str());
@@ -158,9 +151,21 @@ std::shared_ptr<const LoadedSolution> JobQueue::solution(const std::string& id) 
   auto loaded = std::make_shared<const LoadedSolution>(
       load_solution(store_.solution_path(id), options_.files));
   std::lock_guard lock(mutex_);
-  cache_.emplace_front(id, loaded);
-  if (cache_.size() > options_.cached_solutions) cache_.pop_back();
+  remember(id, loaded);
   return loaded;
+}
+
+void JobQueue::remember(const std::string& id, std::shared_ptr<const LoadedSolution> solution) {
+  cache_.remove_if([&](const auto& c) { return c.first == id; });  // loaded twice at once
+  cache_.emplace_front(id, std::move(solution));
+  if (cache_.size() > options_.cached_solutions) cache_.pop_back();
+}
+
+void JobQueue::forget(const std::string& id) {
+  jobs_.erase(id);
+  last_used_.erase(id);
+  bytes_.erase(id);
+  cache_.remove_if([&](const auto& c) { return c.first == id; });
 }
 
 Metrics::Gauges JobQueue::gauges() const {
@@ -294,14 +299,13 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
     save_solution(store_.solution_path(id), *scene_json, solution);
     publish(png, solution.stats.shots, solution.stats.unshot_fraction, t);
     const SolveStats stats = solution.stats;
+    auto loaded = std::make_shared<LoadedSolution>();
+    loaded->scene = scene;
+    loaded->scene_json = *scene_json;
+    loaded->solution = std::move(solution);
     {
       std::lock_guard lock(mutex_);
-      auto loaded = std::make_shared<LoadedSolution>();
-      loaded->scene = scene;
-      loaded->scene_json = *scene_json;
-      loaded->solution = std::move(solution);
-      cache_.emplace_front(id, std::move(loaded));
-      if (cache_.size() > options_.cached_solutions) cache_.pop_back();
+      remember(id, std::move(loaded));
     }
     finish(job, [&](JobRecord& r) {
       r.state = JobState::Done;
@@ -332,10 +336,11 @@ void JobQueue::finish(const std::shared_ptr<Job>& job,
   }
   job->update([&](JobRecord& rec) { rec = r; });
   log_state(r);
+  const std::uintmax_t bytes = store_.bytes_used(r.id);  // disk I/O outside the lock
   {
     std::lock_guard lock(mutex_);
     last_used_[r.id] = r.finished;
-    bytes_[r.id] = store_.bytes_used(r.id);
+    bytes_[r.id] = bytes;
   }
   enforce_retention();
 }
@@ -357,10 +362,7 @@ void JobQueue::enforce_retention() {
       evict.push_back(id);
       --count;
       total -= bytes_[id];
-      jobs_.erase(id);
-      last_used_.erase(id);
-      bytes_.erase(id);
-      cache_.remove_if([&](const auto& c) { return c.first == id; });
+      forget(id);
     }
   }
   for (const std::string& id : evict) {

@@ -72,8 +72,10 @@ class JobQueue {
   void work();
   void run(const std::shared_ptr<Job>& job);
   void finish(const std::shared_ptr<Job>& job, const std::function<void(JobRecord&)>& change);
-  void touch(const std::string& id);
   void enforce_retention();
+  // With mutex_ held: keep a solved job in the cache; drop every trace of a job in memory.
+  void remember(const std::string& id, std::shared_ptr<const LoadedSolution> solution);
+  void forget(const std::string& id);
 
   JobStore& store_;
   Metrics& metrics_;
