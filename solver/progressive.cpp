@@ -35,6 +35,13 @@ constexpr double kNearField = 3.0;
 // (coordinates near 550) hit the wall itself.
 constexpr double kRayOffset = 1e-4;
 
+// An element's corners (in `storage`), for Lambert's formula.
+std::span<const Vec3> corners(const Mesh& mesh, const Element& e, std::array<Vec3, 4>& storage) {
+  for (int k = 0; k < e.vertex_count; ++k)
+    storage[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
+  return {storage.data(), std::size_t(e.vertex_count)};
+}
+
 // Four points per element spread over its area, each standing for a quarter of it: the
 // centres of its 2 x 2 bilinear sub-quads, or of a triangle's four midpoint sub-triangles
 // (barycentric (2/3, 1/6, 1/6) and its turns, and (1/3, 1/3, 1/3)).
@@ -262,10 +269,8 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
 double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3& origin,
                                                  std::uint32_t element,
                                                  double hemicube_form_factor) const {
-  const Element& e = mesh_.elements[element];
-  std::array<Vec3, 4> polygon;
-  for (int k = 0; k < e.vertex_count; ++k) polygon[k] = mesh_.vertices[e.v[k]].position;
-  std::span<const Vec3> receiver(polygon.data(), std::size_t(e.vertex_count));
+  std::array<Vec3, 4> storage;
+  std::span<const Vec3> receiver = corners(mesh_, mesh_.elements[element], storage);
   const Vec3& n = mesh_.patches[patch].normal;
   double at_origin = point_to_polygon(origin, n, receiver);
   if (!(at_origin > 0)) return hemicube_form_factor;
@@ -289,13 +294,9 @@ double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
   if (glm::length(e.centroid - p.centroid) < kNearField * std::sqrt(p.area)) {
     double open = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, nullptr, 0);
     double exact = 0;
-    for (std::uint32_t k = p.first; k < p.first + p.count; ++k) {
-      const Element& s = mesh_.elements[k];
-      std::array<Vec3, 4> polygon;
-      for (int c = 0; c < s.vertex_count; ++c) polygon[c] = mesh_.vertices[s.v[c]].position;
-      exact += point_to_polygon(e.centroid, e.normal,
-                                std::span<const Vec3>(polygon.data(), std::size_t(s.vertex_count)));
-    }
+    std::array<Vec3, 4> storage;
+    for (std::uint32_t k = p.first; k < p.first + p.count; ++k)
+      exact += point_to_polygon(e.centroid, e.normal, corners(mesh_, mesh_.elements[k], storage));
     f = open > 0 ? exact * f / open : 0;
   }
   return f * e.area / p.area;
