@@ -82,11 +82,9 @@ Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token 
   for (int level = 0;; ++level) {
     Solution out = solve_on(scene, std::move(mesh), on_step, stop);
     out.refinements = refinements;
-    if (level >= scene.solver.adaptive_levels || stop.stop_requested()) {
-      out.stats.seconds_solve = seconds_since(t0) - out.stats.seconds_texture;
-      return out;
-    }
-    auto split = elements_to_split(*out.mesh, out.display, scene.solver.adaptive_threshold);
+    std::vector<std::uint32_t> split;
+    if (level < scene.solver.adaptive_levels && !stop.stop_requested())
+      split = elements_to_split(*out.mesh, out.display, scene.solver.adaptive_threshold);
     if (split.empty() ||
         out.mesh->elements.size() + 3 * split.size() > std::size_t(Limits::kMaxElements)) {
       out.stats.seconds_solve = seconds_since(t0) - out.stats.seconds_texture;
