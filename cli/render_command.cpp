@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/usage_error.h"
 #include "protocol/scene_json.h"
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
@@ -25,10 +26,6 @@ constexpr const char* kUsage =
     "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
     "                      [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 struct RenderArgs {
   std::string scene, output, solution, bump, save_map;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/usage_error.h"
 #include "server/server.h"
 
 namespace bumprad {
@@ -25,10 +26,6 @@ constexpr const char* kUsage =
     "  --max-bytes 4G       their files in all (suffixes K, M, G)\n"
     "  --body-limit 8M      largest request body accepted\n"
     "  --max-retextures 16  re-textures waiting to render before 503\n";
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // A count or size with an optional K/M/G suffix, at least `min`.
 std::uintmax_t parse_amount(std::string_view flag, std::string_view text, std::uintmax_t min,
