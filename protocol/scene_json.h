@@ -53,7 +53,13 @@ struct ImageFiles {
 Scene parse_scene(std::string_view json_text, const ImageFiles& files = {});
 Scene parse_scene(const nlohmann::json& document, const ImageFiles& files = {});
 
-// JSON text to a document; throws MalformedJson saying where and why.
+// Arrays and objects nest at most this deep in any JSON bumprad reads (a scene needs 5, a
+// request 6): deeper documents are refused while parsing, before anything copies them, since
+// copying, printing and freeing a JSON value recurse once per level.
+constexpr int kMaxJsonDepth = 32;
+
+// JSON text to a document; throws MalformedJson saying where and why, also for nesting
+// deeper than kMaxJsonDepth.
 nlohmann::json parse_json(std::string_view text);
 
 // `base` with the keys of a camera block that `changes` gives, e.g. to re-render from a new

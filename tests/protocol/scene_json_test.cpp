@@ -72,6 +72,25 @@ TEST(SceneJson, MalformedJson) {
 TEST(SceneJson, DeepNestingIsRefusedWithoutCrashing) {
   std::string deep(100000, '[');
   EXPECT_THROW(parse_scene(std::string_view(deep)), SceneError);
+  // Well-formed and 200,000 levels deep: building, copying or freeing this recurses once per
+  // level and overflows the stack, so it must be refused while it is parsed.
+  for (std::string open : {"[", "{\"a\":"}) {
+    std::string nested;
+    for (int i = 0; i < 200000; ++i) nested += open;
+    nested += "1";
+    for (int i = 0; i < 200000; ++i) nested += open == "[" ? "]" : "}";
+    try {
+      parse_json(nested);
+      ADD_FAILURE() << "accepted";
+    } catch (const MalformedJson& e) {
+      EXPECT_NE(std::string(e.what()).find("nested deeper than 32"), std::string::npos)
+          << e.what();
+    }
+  }
+  // The limit itself is allowed: 32 levels parse.
+  std::string ok = std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']');
+  EXPECT_NO_THROW(parse_json(ok));
+  EXPECT_THROW(parse_json("[" + ok + "]"), MalformedJson);
 }
 
 TEST(SceneJson, UnknownKeys) {
