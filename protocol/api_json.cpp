@@ -275,10 +275,49 @@ std::string builtin_scenes_json() {
   return json{{"scenes", list}}.dump();
 }
 
+std::string valid_utf8(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size();) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+    const unsigned char b = byte(i);
+    // The length of a well-formed sequence starting here (RFC 3629: no overlong forms, no
+    // surrogates, nothing above U+10FFFF), or 0.
+    std::size_t n = b < 0x80                 ? 1
+                    : b >= 0xC2 && b <= 0xDF ? 2
+                    : b >= 0xE0 && b <= 0xEF ? 3
+                    : b >= 0xF0 && b <= 0xF4 ? 4
+                                             : 0;
+    if (n > text.size() - i) n = 0;
+    for (std::size_t k = 1; k < n; ++k) {
+      unsigned char lo = 0x80, hi = 0xBF;
+      if (k == 1 && b == 0xE0) lo = 0xA0;
+      if (k == 1 && b == 0xED) hi = 0x9F;
+      if (k == 1 && b == 0xF0) lo = 0x90;
+      if (k == 1 && b == 0xF4) hi = 0x8F;
+      if (byte(i + k) < lo || byte(i + k) > hi) n = 0;
+    }
+    if (n == 0) {
+      constexpr char kHex[] = "0123456789ABCDEF";
+      out += "\\x";
+      out += kHex[b >> 4];
+      out += kHex[b & 15];
+      ++i;
+      continue;
+    }
+    out.append(text.substr(i, n));
+    i += n;
+  }
+  return out;
+}
+
 std::string problem_json(int status, std::string_view title, std::string_view detail,
                          std::string_view field) {
-  json p = {{"type", "about:blank"}, {"title", title}, {"status", status}, {"detail", detail}};
-  if (!field.empty()) p["field"] = field;
+  json p = {{"type", "about:blank"},
+            {"title", title},
+            {"status", status},
+            {"detail", valid_utf8(detail)}};
+  if (!field.empty()) p["field"] = valid_utf8(field);
   return p.dump();
 }
 

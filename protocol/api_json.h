@@ -95,7 +95,12 @@ RetextureRequest parse_retexture_request(std::string_view body, const Scene& sol
 // GET /v1/scenes: the built-in scenes, by name and description.
 std::string builtin_scenes_json();
 
+// `text` with every byte that is not part of well-formed UTF-8 written as \xNN, so that
+// a message quoting a request's bytes can always be sent as JSON.
+std::string valid_utf8(std::string_view text);
+
 // RFC 9457 problem details; `field` (a JSON pointer) is added when the problem has one.
+// The detail and field may quote the request's bytes: they are made valid UTF-8.
 std::string problem_json(int status, std::string_view title, std::string_view detail,
                          std::string_view field = {});
 

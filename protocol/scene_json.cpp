@@ -433,8 +433,7 @@ json parse_json(std::string_view text) {
   // The parser itself keeps its own stack; this callback stops it at the first array or
   // object too deep, so no deeply nested value is ever built.
   auto depth_limit = [](int depth, json::parse_event_t event, json&) {
-    if ((event == json::parse_event_t::object_start ||
-         event == json::parse_event_t::array_start) &&
+    if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
         depth >= kMaxJsonDepth)
       throw MalformedJson("JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
                           " arrays and objects");

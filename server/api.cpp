@@ -1,10 +1,12 @@
 #include "server/api.h"
 
 #include <charconv>
+#include <cstdio>
 #include <optional>
 #include <vector>
 
 #include "protocol/api_json.h"
+#include "server/step_stream.h"
 #include "server/web_assets.h"
 #include "solver/solution.h"
 
@@ -89,13 +91,40 @@ Response problem(const Request& request, http::status status, std::string_view t
                 problem_json(int(status), title, detail, field));
 }
 
+namespace {
+
+// A 500 says nothing of the server's inside (paths, library messages); its log does.
+Response internal_error(const Request& request, std::string_view what) {
+  std::fprintf(stderr, "internal error answering %s %s: %s\n",
+               std::string(request.method_string()).c_str(), valid_utf8(request.target()).c_str(),
+               valid_utf8(what).c_str());
+  return problem(request, http::status::internal_server_error, "Internal error",
+                 "the server could not answer this request; its log says why");
+}
+
+}  // namespace
+
 Routed Api::handle(const Request& request) {
+  Routed routed;
   try {
-    return route(request);
+    routed = route(request);
   } catch (const std::exception& e) {
-    return {"(error)",
-            problem(request, http::status::internal_server_error, "Internal error", e.what())};
+    routed = {"(error)", internal_error(request, e.what())};
   }
+  if (request.method() != http::verb::head) return routed;
+  // HEAD: what GET would answer, without its body.
+  if (auto* stream = std::get_if<StreamRequest>(&routed.action)) {
+    Response res = answer(request, http::status::ok, StepStream(stream->kind).content_type(), "");
+    res.erase(http::field::content_length);  // a stream's length is not known
+    res.keep_alive(false);
+    routed.action = std::move(res);
+  }
+  if (auto* res = std::get_if<Response>(&routed.action)) {
+    const std::size_t length = res->body().size();
+    res->body().clear();
+    res->content_length(length);
+  }
+  return routed;
 }
 
 Routed Api::route(const Request& request) {
@@ -105,31 +134,33 @@ Routed Api::route(const Request& request) {
       target.find('?') == std::string_view::npos ? "" : target.substr(target.find('?') + 1);
   const auto parts = split_path(path);
   const http::verb method = request.method();
-  const bool get = method == http::verb::get;
+  // HEAD is answered as GET; handle() drops the body.
+  const bool get = method == http::verb::get || method == http::verb::head;
 
   if (auto asset = find_web_asset(path)) {
-    if (!get) return {std::string(path), method_not_allowed(request, "GET")};
+    if (!get) return {std::string(path), method_not_allowed(request, "GET, HEAD")};
     std::string type(asset->content_type);
     if (type.starts_with("text/")) type += "; charset=utf-8";
     return {std::string(path), answer(request, http::status::ok, type, std::string(asset->body))};
   }
   if (path == "/healthz") {
-    if (!get) return {"/healthz", method_not_allowed(request, "GET")};
+    if (!get) return {"/healthz", method_not_allowed(request, "GET, HEAD")};
     return {"/healthz", json_answer(request, http::status::ok, R"({"status":"ok"})")};
   }
   if (path == "/metrics") {
-    if (!get) return {"/metrics", method_not_allowed(request, "GET")};
+    if (!get) return {"/metrics", method_not_allowed(request, "GET, HEAD")};
     return {"/metrics", answer(request, http::status::ok, "text/plain; version=0.0.4",
                                metrics_.prometheus(queue_.gauges()))};
   }
   if (path == "/v1/scenes") {
-    if (!get) return {"/v1/scenes", method_not_allowed(request, "GET")};
+    if (!get) return {"/v1/scenes", method_not_allowed(request, "GET, HEAD")};
     return {"/v1/scenes", json_answer(request, http::status::ok, builtin_scenes_json())};
   }
   if (path == "/v1/jobs") {
     if (get)
       return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(queue_.list()))};
-    if (method != http::verb::post) return {"/v1/jobs", method_not_allowed(request, "GET, POST")};
+    if (method != http::verb::post)
+      return {"/v1/jobs", method_not_allowed(request, "GET, HEAD, POST")};
     try {
       JobRequest job_request = parse_job_request(request.body(), queue_.files());
       auto job = queue_.submit(job_request);
@@ -166,7 +197,8 @@ Routed Api::route(const Request& request) {
 
   if (sub.empty()) {
     if (get) return {route, json_answer(request, http::status::ok, job_to_json(record))};
-    if (method != http::verb::delete_) return {route, method_not_allowed(request, "GET, DELETE")};
+    if (method != http::verb::delete_)
+      return {route, method_not_allowed(request, "GET, HEAD, DELETE")};
     switch (queue_.cancel_or_delete(id)) {
       case JobQueue::Removal::Cancelled:
         return {route, json_answer(request, http::status::accepted, job_to_json(job->record()))};
@@ -196,12 +228,11 @@ Routed Api::route(const Request& request) {
               } catch (const SceneError& e) {
                 return scene_problem(request, e);
               } catch (const std::exception& e) {
-                return problem(request, http::status::internal_server_error, "Internal error",
-                               e.what());
+                return internal_error(request, e.what());
               }
             }}};
   }
-  if (!get) return {route, method_not_allowed(request, "GET")};
+  if (!get) return {route, method_not_allowed(request, "GET, HEAD")};
   if (sub == "stream") return {route, StreamRequest{job, StreamRequest::Kind::Images}};
   if (sub == "events") return {route, StreamRequest{job, StreamRequest::Kind::Events}};
   auto step_answer = [&](int step, bool immutable) -> Routed {

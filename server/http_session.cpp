@@ -23,7 +23,6 @@ void HttpSession::read() {
   parser_.emplace();
   parser_->body_limit(context_.api.body_limit());
   parser_->header_limit(16 * 1024);
-  buffer_.consume(buffer_.size());
   stream_.expires_after(context_.read_timeout);  // a deadline for the whole request
   http::async_read(
       stream_, buffer_, *parser_,

@@ -125,5 +125,19 @@ TEST(ApiJson, ProblemDetails) {
   EXPECT_GE(json::parse(builtin_scenes_json())["scenes"].size(), 3u);
 }
 
+TEST(ApiJson, ProblemDetailsQuoteInvalidUtf8Escaped) {
+  EXPECT_EQ(valid_utf8("caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80"),
+            "caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80");
+  EXPECT_EQ(valid_utf8("a\xff"
+                       "b"),
+            "a\\xFFb");
+  EXPECT_EQ(valid_utf8("\xc0\xaf"), "\\xC0\\xAF");           // overlong '/'
+  EXPECT_EQ(valid_utf8("\xed\xa0\x80"), "\\xED\\xA0\\x80");  // a surrogate
+  EXPECT_EQ(valid_utf8("\xe2\x82"), "\\xE2\\x82");           // cut short
+  json p = json::parse(problem_json(404, "Not found", "no such resource: /v1/\xff", "/\xfe"));
+  EXPECT_EQ(p["detail"], "no such resource: /v1/\\xFF");
+  EXPECT_EQ(p["field"], "/\\xFE");
+}
+
 }  // namespace
 }  // namespace bumprad

@@ -83,8 +83,7 @@ TEST(SceneJson, DeepNestingIsRefusedWithoutCrashing) {
       parse_json(nested);
       ADD_FAILURE() << "accepted";
     } catch (const MalformedJson& e) {
-      EXPECT_NE(std::string(e.what()).find("nested deeper than 32"), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find("nested deeper than 32"), std::string::npos) << e.what();
     }
   }
   // The limit itself is allowed: 32 levels parse.

@@ -244,7 +244,7 @@ TEST(Server, BadRequestsGetProblemDetailsAndTheServerCarriesOn) {
   expect_problem(c.get("/v1/jobs/0123456789abcdef"), 404, "no job with id");
   HttpResponse wrong = c.request("PUT", "/v1/jobs");
   expect_problem(wrong, 405, "PUT is not allowed");
-  EXPECT_EQ(wrong.header("allow"), "GET, POST");
+  EXPECT_EQ(wrong.header("allow"), "GET, HEAD, POST");
   expect_problem(c.request("DELETE", "/healthz"), 405, "DELETE");
 
   std::string id = submit(c, test::small_job_json(0, 50, true));
