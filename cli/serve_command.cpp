@@ -15,6 +15,8 @@ constexpr const char* kUsage =
     "usage: bumprad serve [--bind ADDR] [--port P] [--data-dir DIR] [--workers N]\n"
     "                     [--max-queue Q] [--assets DIR] [--keep-steps K] [--max-jobs J]\n"
     "                     [--max-bytes B] [--body-limit B] [--max-retextures R]\n"
+    "                     [--max-connections C] [--max-job-seconds S]\n"
+    "                     [--max-retexture-seconds S] [--job-timeout S] [--retexture-timeout S]\n"
     "  --bind 127.0.0.1     address to listen on (0.0.0.0 for every interface)\n"
     "  --port 8080          0 picks a free port, printed at start\n"
     "  --data-dir DIR       jobs, solutions and images (default ./bumprad-data)\n"
@@ -25,7 +27,12 @@ constexpr const char* kUsage =
     "  --max-jobs 500       finished jobs kept (least recently used evicted first)\n"
     "  --max-bytes 4G       their files in all (suffixes K, M, G)\n"
     "  --body-limit 8M      largest request body accepted\n"
-    "  --max-retextures 16  re-textures waiting to render before 503\n";
+    "  --max-retextures 16  re-textures waiting to render before 503\n"
+    "  --max-connections 512       open connections; more are answered 503 and closed\n"
+    "  --max-job-seconds 600       a job's estimated solve and render time; more is 422\n"
+    "  --max-retexture-seconds 30  a re-texture's estimated render time; more is 422\n"
+    "  --job-timeout 3600          wall-clock seconds a job may run, then it fails\n"
+    "  --retexture-timeout 60      wall-clock seconds a re-texture may render, then 503\n";
 
 // A count or size with an optional K/M/G suffix, at least `min`.
 std::uintmax_t parse_amount(std::string_view flag, std::string_view text, std::uintmax_t min,
@@ -72,7 +79,17 @@ ServerOptions parse_args(std::span<const std::string_view> args) {
     else if (flag == "--max-retextures")
       o.max_retextures = int(std::min<std::uintmax_t>(4096, parse_amount(flag, v, 1, false)));
     else if (flag == "--body-limit")
-      o.body_limit = parse_amount(flag, v, 1024, true);
+      o.api.body_limit = parse_amount(flag, v, 1024, true);
+    else if (flag == "--max-connections")
+      o.max_connections = int(std::min<std::uintmax_t>(1'000'000, parse_amount(flag, v, 1, false)));
+    else if (flag == "--max-job-seconds")
+      o.api.max_job_seconds = double(parse_amount(flag, v, 1, false));
+    else if (flag == "--max-retexture-seconds")
+      o.api.max_retexture_seconds = double(parse_amount(flag, v, 1, false));
+    else if (flag == "--job-timeout")
+      o.queue.job_timeout_s = double(parse_amount(flag, v, 1, false));
+    else if (flag == "--retexture-timeout")
+      o.api.retexture_timeout_s = double(parse_amount(flag, v, 1, false));
     else
       throw UsageError("unknown option " + std::string(flag));
   }

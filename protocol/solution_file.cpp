@@ -81,6 +81,10 @@ class Reader {
 
 void save_solution(const std::filesystem::path& path, std::string_view scene_json,
                    const Solution& solution) {
+  write_file_atomically(path, encode_solution(scene_json, solution));
+}
+
+std::string encode_solution(std::string_view scene_json, const Solution& solution) {
   Writer w;
   w.bytes().append(kMagic, sizeof kMagic);
   w.put(kVersion);
@@ -104,7 +108,7 @@ void save_solution(const std::filesystem::path& path, std::string_view scene_jso
     for (std::uint32_t i : split) w.put(i);
   }
   w.put(fnv1a(w.bytes().data(), w.bytes().size()));
-  write_file_atomically(path, w.bytes());
+  return std::move(w.bytes());
 }
 
 LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles& files) {

@@ -22,6 +22,8 @@ class SolutionFileError : public std::runtime_error {
 // `scene_json` is the scene's text as parsed (the mesh is rebuilt from it on load).
 void save_solution(const std::filesystem::path& path, std::string_view scene_json,
                    const Solution& solution);
+// The file's bytes, for a caller that writes them itself.
+std::string encode_solution(std::string_view scene_json, const Solution& solution);
 
 struct LoadedSolution {
   Scene scene;

@@ -8,6 +8,7 @@
 #include "protocol/api_json.h"
 #include "server/step_stream.h"
 #include "server/web_assets.h"
+#include "solver/cost.h"
 #include "solver/solution.h"
 
 namespace bumprad {
@@ -81,6 +82,20 @@ Response scene_problem(const Request& request, const SceneError& e) {
       request, malformed ? http::status::bad_request : http::status::unprocessable_entity,
       malformed ? "Malformed JSON" : "Invalid request", e.what(),
       malformed ? std::string_view{} : std::string_view(e.pointer().empty() ? "/" : e.pointer()));
+}
+
+// "40 ms", "12 s", "3.5 min", "11 h": for cost and time-limit messages.
+std::string describe_duration(double seconds) {
+  char s[32];
+  if (seconds < 1)
+    std::snprintf(s, sizeof s, "%.0f ms", seconds * 1000);
+  else if (seconds < 120)
+    std::snprintf(s, sizeof s, "%.3g s", seconds);
+  else if (seconds < 7200)
+    std::snprintf(s, sizeof s, "%.3g min", seconds / 60);
+  else
+    std::snprintf(s, sizeof s, "%.3g h", seconds / 3600);
+  return s;
 }
 
 }  // namespace
@@ -161,19 +176,9 @@ Routed Api::route(const Request& request) {
       return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(queue_.list()))};
     if (method != http::verb::post)
       return {"/v1/jobs", method_not_allowed(request, "GET, HEAD, POST")};
-    try {
-      JobRequest job_request = parse_job_request(request.body(), queue_.files());
-      auto job = queue_.submit(job_request);
-      Response res = json_answer(request, http::status::accepted, job_to_json(job->record()));
-      res.set(http::field::location, job_url(job->record().id));
-      return {"/v1/jobs", std::move(res)};
-    } catch (const SceneError& e) {
-      return {"/v1/jobs", scene_problem(request, e)};
-    } catch (const QueueFull& e) {
-      Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
-      res.set(http::field::retry_after, "5");
-      return {"/v1/jobs", std::move(res)};
-    }
+    return {"/v1/jobs",
+            DeferredRequest{DeferredRequest::Pool::Parse,
+                            [this](const Request& r, std::stop_source) { return submit(r); }}};
   }
 
   if (parts.size() < 3 || parts[0] != "v1" || parts[1] != "jobs")
@@ -213,24 +218,10 @@ Routed Api::route(const Request& request) {
     if (record.state != JobState::Done) return not_done("a perturbed radiosity map");
     // Parsing, loading a solution that is not in memory, and rendering all happen on the
     // render pool: a network thread never waits for them.
-    return {route, DeferredRequest{[this, request, id]() -> Response {
-              try {
-                auto solved = queue_.solution(id);
-                if (!solved)
-                  return problem(request, http::status::not_found, "Not found",
-                                 "job " + id + " was deleted");
-                RetextureRequest r =
-                    parse_retexture_request(request.body(), solved->scene, queue_.files());
-                Image image = render(r.scene, solved->solution);
-                bool png = r.format == ImageFormat::Png;
-                return answer(request, http::status::ok, png ? "image/png" : "image/x-exr",
-                              encode_image(image, r.format, r.scene.camera.exposure));
-              } catch (const SceneError& e) {
-                return scene_problem(request, e);
-              } catch (const std::exception& e) {
-                return internal_error(request, e.what());
-              }
-            }}};
+    return {route, DeferredRequest{DeferredRequest::Pool::Render,
+                                   [this, id](const Request& r, std::stop_source stop) {
+                                     return retexture(r, id, std::move(stop));
+                                   }}};
   }
   if (!get) return {route, method_not_allowed(request, "GET, HEAD")};
   if (sub == "stream") return {route, StreamRequest{job, StreamRequest::Kind::Images}};
@@ -292,6 +283,80 @@ Routed Api::route(const Request& request) {
                           f == ImageFormat::Png ? "image/png" : "image/x-exr", std::move(*bytes))};
   }
   return not_found();
+}
+
+Response Api::submit(const Request& request) {
+  try {
+    JobRequest job_request = parse_job_request(request.body(), queue_.files());
+    const bool inline_scene = job_request.scene_name == "inline";
+    const CostEstimate cost = estimate_cost(job_request.scene);
+    if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
+      const bool solve = cost.solve_s >= cost.render_s;
+      throw SceneError(
+          solve ? (inline_scene ? "/scene/solver" : "/solver")
+                : (inline_scene ? "/scene/camera" : "/builtin"),
+          "this job would take about " + describe_duration(cost.solve_s + cost.render_s) +
+              (solve ? " to solve (" + cost.solve_terms + ")"
+                     : " to render (" + cost.render_terms + ")") +
+              ", over this server's limit of " + describe_duration(limits_.max_job_seconds) +
+              " (--max-job-seconds)" +
+              (solve ? "; lower max_shots or hemicube_resolution, or raise element_size"
+                     : "; lower the camera's width, height, antialias or glossy_samples"));
+    }
+    auto job = queue_.submit(job_request);
+    Response res = json_answer(request, http::status::accepted, job_to_json(job->record()));
+    res.set(http::field::location, job_url(job->record().id));
+    return res;
+  } catch (const SceneError& e) {
+    return scene_problem(request, e);
+  } catch (const QueueFull& e) {
+    Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
+    res.set(http::field::retry_after, "5");
+    return res;
+  } catch (const StoreFull& e) {
+    Response res = problem(request, http::status::insufficient_storage, "Storage full", e.what());
+    res.set(http::field::retry_after, "60");
+    return res;
+  } catch (const std::exception& e) {
+    return internal_error(request, e.what());
+  }
+}
+
+Response Api::retexture(const Request& request, const std::string& id, std::stop_source stop) {
+  Watchdog::Guard deadline(watchdog_, stop,
+                           std::chrono::duration<double>(limits_.retexture_timeout_s));
+  try {
+    auto solved = queue_.solution(id);
+    if (!solved)
+      return problem(request, http::status::not_found, "Not found", "job " + id + " was deleted");
+    RetextureRequest r = parse_retexture_request(request.body(), solved->scene, queue_.files());
+    const CostEstimate cost = estimate_render_cost(r.scene);
+    if (cost.render_s > limits_.max_retexture_seconds)
+      throw SceneError(
+          "/camera",
+          "this re-texture would take about " + describe_duration(cost.render_s) + " to render (" +
+              cost.render_terms + "), over this server's limit of " +
+              describe_duration(limits_.max_retexture_seconds) +
+              " (--max-retexture-seconds); lower width, height, antialias or glossy_samples");
+    Image image = render(r.scene, solved->solution, stop.get_token());
+    if (stop.stop_requested()) {
+      Response res =
+          problem(request, http::status::service_unavailable, "Stopped",
+                  deadline.timed_out() ? "the re-texture ran past this server's time limit of " +
+                                             describe_duration(limits_.retexture_timeout_s) +
+                                             "; try again when it is less busy"
+                                       : std::string("the server is shutting down"));
+      res.set(http::field::retry_after, "5");
+      return res;
+    }
+    bool png = r.format == ImageFormat::Png;
+    return answer(request, http::status::ok, png ? "image/png" : "image/x-exr",
+                  encode_image(image, r.format, r.scene.camera.exposure));
+  } catch (const SceneError& e) {
+    return scene_problem(request, e);
+  } catch (const std::exception& e) {
+    return internal_error(request, e.what());
+  }
 }
 
 }  // namespace bumprad

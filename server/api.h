@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <memory>
+#include <stop_token>
 #include <string>
 #include <variant>
 
@@ -12,6 +13,7 @@
 
 #include "server/job_queue.h"
 #include "server/metrics.h"
+#include "server/watchdog.h"
 
 namespace bumprad {
 
@@ -27,9 +29,13 @@ struct StreamRequest {
   Kind kind;
 };
 
-// Work too long for a network thread; its answer is written when it is done.
+// Work too long for a network thread (parsing a body, rendering); its answer is written
+// when it is done. Renders go to their own pool, whose queue is bounded. The stop source
+// stops the work when the client hangs up or the server shuts down.
 struct DeferredRequest {
-  std::function<Response()> work;
+  enum class Pool { Parse, Render };
+  Pool pool;
+  std::function<Response(const Request&, std::stop_source)> work;
 };
 
 struct Routed {
@@ -37,21 +43,32 @@ struct Routed {
   std::variant<Response, StreamRequest, DeferredRequest> action;
 };
 
+// What one request may cost: bodies, and the estimated and wall-clock seconds of work.
+struct ApiLimits {
+  std::size_t body_limit = 8 << 20;
+  double max_job_seconds = 600;       // estimated solve and final render (solver/cost.h)
+  double max_retexture_seconds = 30;  // estimated render
+  double retexture_timeout_s = 60;    // wall clock, then 503
+};
+
 class Api {
  public:
-  Api(JobQueue& queue, Metrics& metrics, std::size_t body_limit)
-      : queue_(queue), metrics_(metrics), body_limit_(body_limit) {}
+  Api(JobQueue& queue, Metrics& metrics, Watchdog& watchdog, ApiLimits limits)
+      : queue_(queue), metrics_(metrics), watchdog_(watchdog), limits_(limits) {}
 
   // Never throws: every failure is a problem+json answer.
   Routed handle(const Request& request);
 
-  std::size_t body_limit() const { return body_limit_; }
+  const ApiLimits& limits() const { return limits_; }
 
  private:
   Routed route(const Request& request);
+  Response submit(const Request& request);
+  Response retexture(const Request& request, const std::string& id, std::stop_source stop);
   JobQueue& queue_;
   Metrics& metrics_;
-  std::size_t body_limit_;
+  Watchdog& watchdog_;
+  const ApiLimits limits_;
 };
 
 // An RFC 9457 problem+json answer.

@@ -1,5 +1,8 @@
 #include "server/http_session.h"
 
+#include <sys/socket.h>
+
+#include <cerrno>
 #include <cstdio>
 
 #include <boost/asio/post.hpp>
@@ -7,21 +10,38 @@
 namespace bumprad {
 
 HttpSession::HttpSession(net::ip::tcp::socket&& socket, SessionContext& context)
-    : stream_(std::move(socket)), context_(context), heartbeat_(stream_.get_executor()) {}
+    : stream_(std::move(socket)), context_(context), heartbeat_(stream_.get_executor()) {
+  ++context_.connections;
+}
 
 HttpSession::~HttpSession() {
   if (watch_ && watch_->watcher >= 0) watch_->job->unwatch(watch_->watcher);
   if (busy_) --context_.busy;
+  --context_.connections;
 }
 
 void HttpSession::run() {
-  net::post(stream_.get_executor(), [self = shared_from_this()] { self->read(); });
+  net::post(stream_.get_executor(), [self = shared_from_this()] {
+    if (self->context_.connections <= self->context_.max_connections) return self->read();
+    // Over the cap: say so and close, without reading the request.
+    self->started_ = Clock::now();
+    self->method_ = self->target_ = "-";
+    self->route_ = "(too many connections)";
+    Request head;
+    head.keep_alive(false);
+    Response busy =
+        problem(head, http::status::service_unavailable, "Too many connections",
+                "this server takes at most " + std::to_string(self->context_.max_connections) +
+                    " connections at once; try again shortly");
+    busy.set(http::field::retry_after, "1");
+    self->write(std::move(busy));
+  });
 }
 
 void HttpSession::read() {
-  if (context_.stopping) return close();
+  if (context_.shutdown.stop_requested()) return close();
   parser_.emplace();
-  parser_->body_limit(context_.api.body_limit());
+  parser_->body_limit(context_.api.limits().body_limit);
   parser_->header_limit(16 * 1024);
   stream_.expires_after(context_.read_timeout);  // a deadline for the whole request
   http::async_read(
@@ -47,9 +67,9 @@ void HttpSession::on_read(beast::error_code ec) {
     head.keep_alive(false);
     route_ = "(unreadable)";
     if (ec == http::error::body_limit)
-      return write(problem(
-          head, http::status::payload_too_large, "Body too large",
-          "request bodies are limited to " + std::to_string(context_.api.body_limit()) + " bytes"));
+      return write(problem(head, http::status::payload_too_large, "Body too large",
+                           "request bodies are limited to " +
+                               std::to_string(context_.api.limits().body_limit) + " bytes"));
     if (ec == http::error::header_limit)
       return write(problem(head, http::status::request_header_fields_too_large, "Headers too large",
                            "request headers are limited to 16384 bytes"));
@@ -61,26 +81,51 @@ void HttpSession::on_read(beast::error_code ec) {
   if (auto* response = std::get_if<Response>(&routed.action)) return write(std::move(*response));
   if (auto* stream = std::get_if<StreamRequest>(&routed.action))
     return start_stream(std::move(*stream));
-  auto& deferred = std::get<DeferredRequest>(routed.action);
-  if (++context_.deferred > context_.max_deferred) {
+  defer(std::move(std::get<DeferredRequest>(routed.action)));
+}
+
+void HttpSession::defer(DeferredRequest deferred) {
+  const bool render = deferred.pool == DeferredRequest::Pool::Render;
+  if (render && ++context_.deferred > context_.max_deferred) {
     --context_.deferred;
-    Response busy = problem(request, http::status::service_unavailable, "Busy",
+    Response busy = problem(parser_->get(), http::status::service_unavailable, "Busy",
                             std::to_string(context_.max_deferred) +
                                 " re-textures are already waiting to render; try again shortly");
     busy.set(http::field::retry_after, "1");
     return write(std::move(busy));
   }
-  net::post(context_.render_pool, [self = shared_from_this(), work = std::move(deferred.work)] {
-    Response response = work();
-    --self->context_.deferred;
-    net::post(self->stream_.get_executor(),
-              [self, r = std::move(response)]() mutable { self->write(std::move(r)); });
+  std::stop_source stop;
+  if (render) watch_for_hangup(stop);
+  net::post(render ? context_.render_pool : context_.parse_pool,
+            [self = shared_from_this(), work = std::move(deferred.work),
+             request = parser_->release(), stop, render]() mutable {
+              std::stop_callback on_shutdown(self->context_.shutdown.get_token(),
+                                             [stop]() mutable { stop.request_stop(); });
+              Response response = work(request, stop);
+              if (render) --self->context_.deferred;
+              net::post(self->stream_.get_executor(), [self, r = std::move(response)]() mutable {
+                beast::error_code ignored;
+                self->stream_.socket().cancel(ignored);  // the hang-up watch
+                self->write(std::move(r));
+              });
+            });
+}
+
+void HttpSession::watch_for_hangup(std::stop_source stop) {
+  stream_.socket().async_wait(net::socket_base::wait_read, [self = shared_from_this(),
+                                                            stop](beast::error_code ec) mutable {
+    if (ec == net::error::operation_aborted) return;  // answered first
+    // Readable: the end of the stream (or an error) is a hang-up; bytes of a pipelined
+    // next request are not, and they stay unread for later.
+    char byte;
+    ssize_t n = ::recv(self->stream_.socket().native_handle(), &byte, 1, MSG_PEEK | MSG_DONTWAIT);
+    if (ec || n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK)) stop.request_stop();
   });
 }
 
 void HttpSession::write(Response response) {
   auto res = std::make_shared<Response>(std::move(response));
-  if (context_.stopping) res->keep_alive(false);
+  if (context_.shutdown.stop_requested()) res->keep_alive(false);
   stream_.expires_after(context_.read_timeout);
   http::async_write(stream_, *res,
                     [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
@@ -141,7 +186,7 @@ void HttpSession::pump() {
   }
   std::string bytes = watch_->stream.catch_up(watch_->job->view());
   if (!bytes.empty()) return write_stream(std::move(bytes));
-  if (watch_->stream.finished() || context_.stopping) return end_stream();
+  if (watch_->stream.finished() || context_.shutdown.stop_requested()) return end_stream();
   arm_heartbeat();
 }
 
@@ -165,7 +210,7 @@ void HttpSession::arm_heartbeat() {
   heartbeat_.expires_after(context_.heartbeat);
   heartbeat_.async_wait([self = shared_from_this(), beat](beast::error_code ec) {
     if (ec || !self->watch_ || self->watch_->writing) return;
-    if (self->context_.stopping) return self->end_stream();
+    if (self->context_.shutdown.stop_requested()) return self->end_stream();
     if (beat.empty()) return self->arm_heartbeat();
     self->write_stream(beat);
   });

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <stop_token>
 #include <string>
 
 #include <boost/asio/steady_timer.hpp>
@@ -27,13 +28,16 @@ namespace net = boost::asio;
 struct SessionContext {
   Api& api;
   Metrics& metrics;
-  net::thread_pool& render_pool;  // re-texturing, off the network threads
+  net::thread_pool& parse_pool;   // request bodies parsed and validated, off the network threads
+  net::thread_pool& render_pool;  // re-texturing
   std::chrono::seconds read_timeout{30};
   std::chrono::seconds heartbeat{15};
-  std::atomic<int> busy{0};      // requests between read and written, streams until they end
-  std::atomic<int> deferred{0};  // re-textures waiting for or on the render pool
-  int max_deferred = 16;         // more are refused with 503, so bodies cannot pile up
-  std::atomic<bool> stopping{false};
+  std::atomic<int> busy{0};         // requests between read and written, streams until they end
+  std::atomic<int> deferred{0};     // re-textures waiting for or on the render pool
+  int max_deferred = 16;            // more are refused with 503, so bodies cannot pile up
+  std::atomic<int> connections{0};  // open now
+  int max_connections = 512;        // more are answered 503 and closed
+  std::stop_source shutdown{};      // stopped on SIGINT/SIGTERM
 };
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
@@ -45,6 +49,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
  private:
   void read();
   void on_read(beast::error_code ec);
+  void defer(DeferredRequest deferred);
+  // Stops `stop` if the client hangs up while its request is being worked on.
+  void watch_for_hangup(std::stop_source stop);
   void write(Response response);
   void finish_request(int status);
   void close();

@@ -26,27 +26,35 @@ void log_state(const JobRecord& j) {
 
 }  // namespace
 
-JobQueue::JobQueue(JobStore& store, Metrics& metrics, QueueOptions options)
-    : store_(store), metrics_(metrics), options_(std::move(options)) {
+JobQueue::JobQueue(JobStore& store, Metrics& metrics, Watchdog& watchdog, QueueOptions options)
+    : store_(store), metrics_(metrics), watchdog_(watchdog), options_(std::move(options)) {
   std::vector<JobStore::Stored> stored = store_.load_all();
   std::sort(stored.begin(), stored.end(),
             [](const auto& a, const auto& b) { return a.record.created < b.record.created; });
+  // A record that cannot be rewritten now (a full disk) is corrected in memory, and again
+  // at the next start: the server starts all the same.
+  auto correct = [&](const JobRecord& r) {
+    try {
+      store_.save_record(r);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "job %s: %s\n", r.id.c_str(), e.what());
+    }
+    log_state(r);
+  };
   for (auto& s : stored) {
     JobRecord& r = s.record;
     if (r.state == JobState::Running) {
       r.state = JobState::Interrupted;
       r.finished = unix_now();
       r.error = "the server stopped while this job was running; submit it again";
-      store_.save_record(r);
-      log_state(r);
+      correct(r);
     }
     if (r.state == JobState::Done &&
         !(std::filesystem::exists(store_.solution_path(r.id)) &&
           std::filesystem::exists(store_.image_path(r.id, ImageFormat::Png)))) {
       r.state = JobState::Failed;
       r.error = "the job's files were lost from the data directory";
-      store_.save_record(r);
-      log_state(r);
+      correct(r);
     }
     auto job = std::make_shared<Job>(r);
     jobs_[r.id] = job;
@@ -211,6 +219,30 @@ void JobQueue::work() {
 
 void JobQueue::run(const std::shared_ptr<Job>& job) {
   const std::string id = job->record().id;
+  Watchdog::Guard deadline(watchdog_, job->stop(),
+                           std::chrono::duration<double>(options_.job_timeout_s));
+  // A stopped job ends cancelled (DELETE), interrupted (shutdown) or failed (time limit).
+  auto stopped = [&](const SolveStats& stats) {
+    bool shutting_down;
+    {
+      std::lock_guard lock(mutex_);
+      shutting_down = stopping_;
+    }
+    finish(job, [&](JobRecord& r) {
+      r.shots = stats.shots;
+      r.unshot_fraction = stats.unshot_fraction;
+      if (shutting_down) {
+        r.state = JobState::Interrupted;
+        r.error = "the server shut down while this job was running";
+      } else if (deadline.timed_out()) {
+        r.state = JobState::Failed;
+        r.error = "the job ran past this server's time limit of " +
+                  std::to_string(int(options_.job_timeout_s)) + " s";
+      } else {
+        r.state = JobState::Cancelled;
+      }
+    });
+  };
   try {
     store_.save_record(job->record());
     log_state(job->record());
@@ -266,8 +298,9 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
           if (progress.step == 0 ||
               progress.seconds_previews < kPreviewShare * seconds_since(started)) {
             auto t = Clock::now();
-            publish(png_of(render(draft, partial, snap.radiosity)), snap.shots,
-                    snap.unshot_fraction, t);
+            Image preview = render(draft, partial, snap.radiosity, job->stop().get_token());
+            if (job->stop().stop_requested()) return false;
+            publish(png_of(preview), snap.shots, snap.unshot_fraction, t);
             drafts_s += seconds_since(t);
           }
           last_step = Clock::now();
@@ -275,28 +308,16 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
         },
         job->stop().get_token());
 
-    if (job->stop().stop_requested()) {
-      bool shutting_down;
-      {
-        std::lock_guard lock(mutex_);
-        shutting_down = stopping_;
-      }
-      finish(job, [&](JobRecord& r) {
-        r.shots = solution.stats.shots;
-        r.unshot_fraction = solution.stats.unshot_fraction;
-        r.state = shutting_down ? JobState::Interrupted : JobState::Cancelled;
-        if (shutting_down) r.error = "the server shut down while this job was running";
-      });
-      return;
-    }
+    if (job->stop().stop_requested()) return stopped(solution.stats);
 
     auto t = Clock::now();
-    Image image = render(scene, solution);
+    Image image = render(scene, solution, job->stop().get_token());
+    if (job->stop().stop_requested()) return stopped(solution.stats);
     auto png = png_of(image);
     store_.save_file(store_.image_path(id, ImageFormat::Png), *png);
     store_.save_file(store_.image_path(id, ImageFormat::Exr),
                      encode_image(image, ImageFormat::Exr, 1));
-    save_solution(store_.solution_path(id), *scene_json, solution);
+    store_.save_file(store_.solution_path(id), encode_solution(*scene_json, solution));
     publish(png, solution.stats.shots, solution.stats.unshot_fraction, t);
     const SolveStats stats = solution.stats;
     auto loaded = std::make_shared<LoadedSolution>();

@@ -20,6 +20,7 @@
 #include "server/job.h"
 #include "server/job_store.h"
 #include "server/metrics.h"
+#include "server/watchdog.h"
 
 namespace bumprad {
 
@@ -30,6 +31,7 @@ struct QueueOptions {
   std::size_t max_jobs = 500;  // finished jobs kept; the least recently used go first
   std::uintmax_t max_bytes = std::uintmax_t(4) << 30;  // their files, in all
   std::size_t cached_solutions = 4;  // solved jobs held in memory for re-texturing
+  double job_timeout_s = 3600;       // wall clock, from start to the final image; then failed
   ImageFiles files = ImageFiles::refused();
 };
 
@@ -43,7 +45,7 @@ class JobQueue {
   // Loads the jobs in `store`: done jobs are served again, queued ones wait again, and
   // those that were running are marked interrupted (re-running them could crash the
   // server again; the client decides). Then starts the workers.
-  JobQueue(JobStore& store, Metrics& metrics, QueueOptions options);
+  JobQueue(JobStore& store, Metrics& metrics, Watchdog& watchdog, QueueOptions options);
   ~JobQueue();
 
   // Throws QueueFull when max_queue jobs are waiting.
@@ -79,6 +81,7 @@ class JobQueue {
 
   JobStore& store_;
   Metrics& metrics_;
+  Watchdog& watchdog_;
   const QueueOptions options_;
 
   mutable std::mutex mutex_;

@@ -4,9 +4,13 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <system_error>
 
 #include "solver/atomic_file.h"
 
@@ -18,6 +22,36 @@ namespace {
 
 constexpr std::string_view kRecord = "job.json";
 constexpr std::string_view kRemoving = ".removing-";
+
+// Temporary files of atomic writes (solver/atomic_file.cpp) are ".NAME.tmp-PID-N.EXT".
+bool is_temporary(const std::string& name) {
+  return name.starts_with('.') && name.find(".tmp-") != std::string::npos;
+}
+
+// Removes the temporary files a crash left in a job's folder, and brings the record's step
+// range up to the step previews on disk.
+void scan_files(const fs::path& dir, JobRecord& record) {
+  std::error_code ignored;
+  int first = 0, last = 0;
+  for (const fs::path& folder : {dir, dir / "steps"})
+    for (auto it = fs::directory_iterator(folder, ignored); it != fs::directory_iterator();
+         it.increment(ignored)) {
+      const std::string name = it->path().filename().string();
+      if (is_temporary(name)) {
+        fs::remove(it->path(), ignored);
+        continue;
+      }
+      if (folder == dir || !name.ends_with(".png")) continue;
+      int step = std::atoi(name.c_str());
+      if (step <= 0) continue;
+      first = first == 0 ? step : std::min(first, step);
+      last = std::max(last, step);
+    }
+  if (last > record.step) {
+    record.step = last;
+    record.first_kept_step = first;
+  }
+}
 
 }  // namespace
 
@@ -68,18 +102,34 @@ fs::path JobStore::step_path(const std::string& id, int step) const {
   return dir(id) / "steps" / (std::to_string(step) + ".png");
 }
 
+void JobStore::writing(const std::string& what, const std::function<void()>& write) const {
+  try {
+    write();
+  } catch (const std::system_error& e) {
+    if (e.code() == std::errc::no_space_on_device || e.code().value() == EDQUOT)
+      throw StoreFull("the server's disk is full (writing " + what + "); try again later");
+    throw std::runtime_error("cannot write " + what + ": " + e.code().message());
+  }
+}
+
 void JobStore::create(const JobRecord& job, std::string_view scene_json) {
-  fs::create_directories(dir(job.id) / "steps");
-  write_file_atomically(scene_path(job.id), scene_json);
-  save_record(job);
+  try {
+    writing("the job's folder", [&] { fs::create_directories(dir(job.id) / "steps"); });
+    writing("the job's scene", [&] { write_file_atomically(scene_path(job.id), scene_json); });
+    save_record(job);
+  } catch (...) {
+    remove(job.id);
+    throw;
+  }
 }
 
 void JobStore::save_record(const JobRecord& job) {
-  write_file_atomically(dir(job.id) / kRecord, job_to_json(job));
+  writing("the job's record",
+          [&] { write_file_atomically(dir(job.id) / kRecord, job_to_json(job)); });
 }
 
 void JobStore::save_step(const std::string& id, int step, std::string_view png) {
-  write_file_atomically(step_path(id, step), png);
+  writing("step " + std::to_string(step), [&] { write_file_atomically(step_path(id, step), png); });
 }
 
 void JobStore::drop_step(const std::string& id, int step) {
@@ -88,7 +138,7 @@ void JobStore::drop_step(const std::string& id, int step) {
 }
 
 void JobStore::save_file(const fs::path& path, std::string_view bytes) {
-  write_file_atomically(path, bytes);
+  writing("the job's " + path.filename().string(), [&] { write_file_atomically(path, bytes); });
 }
 
 std::optional<std::string> JobStore::read(const fs::path& path) {
@@ -113,7 +163,9 @@ std::vector<JobStore::Stored> JobStore::load_all() {
     auto scene = read(scene_path(name));
     try {
       if (record && scene) {
-        out.push_back({job_from_json(*record), *scene});
+        Stored stored{job_from_json(*record), *scene};
+        scan_files(entry.path(), stored.record);
+        out.push_back(std::move(stored));
         continue;
       }
     } catch (const std::exception&) {

@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,6 +15,13 @@
 #include "protocol/api_json.h"
 
 namespace bumprad {
+
+// The data directory's disk is full. Like every error from the store, its message names
+// the job's file, never the server's path.
+class StoreFull : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 class JobStore {
  public:
@@ -34,7 +43,8 @@ class JobStore {
   std::filesystem::path image_path(const std::string& id, ImageFormat format) const;
   std::filesystem::path step_path(const std::string& id, int step) const;
 
-  // A new job's folder with its scene, then its record.
+  // A new job's folder with its scene, then its record; if either cannot be written, no
+  // folder is left behind. Writes throw StoreFull or std::runtime_error.
   void create(const JobRecord& job, std::string_view scene_json);
   void save_record(const JobRecord& job);
   void save_step(const std::string& id, int step, std::string_view png);
@@ -49,7 +59,9 @@ class JobStore {
     std::string scene_json;
   };
   // Every job with a readable record and scene. Folders without them (a submit cut short)
-  // are removed, and so are leftovers of removals cut short.
+  // are removed, and so are leftovers of removals cut short and temporary files of writes
+  // cut short. A record's step range is read from the steps on disk, which the record
+  // may not have caught up with (it is rewritten only when the job starts and ends).
   std::vector<Stored> load_all();
 
   // Removes a job's folder: renamed away first, so it vanishes whole.
@@ -57,6 +69,8 @@ class JobStore {
   std::uintmax_t bytes_used(const std::string& id) const;
 
  private:
+  // Runs a write; file system errors become StoreFull or runtime_error naming `what`.
+  void writing(const std::string& what, const std::function<void()>& write) const;
   std::filesystem::path jobs_;
   int lock_fd_ = -1;
 };

@@ -14,11 +14,14 @@ namespace bumprad {
 int run_server(const ServerOptions& options) {
   JobStore store(options.data_dir);
   Metrics metrics;
-  JobQueue queue(store, metrics, options.queue);
-  Api api(queue, metrics, options.body_limit);
+  Watchdog watchdog;
+  JobQueue queue(store, metrics, watchdog, options.queue);
+  Api api(queue, metrics, watchdog, options.api);
+  net::thread_pool parse_pool(2);
   net::thread_pool render_pool(2);
-  SessionContext context{api, metrics, render_pool};
+  SessionContext context{api, metrics, parse_pool, render_pool};
   context.max_deferred = options.max_retextures;
+  context.max_connections = options.max_connections;
 
   net::io_context ioc;
   auto address = net::ip::make_address(options.bind);
@@ -43,7 +46,7 @@ int run_server(const ServerOptions& options) {
   signals.async_wait([&](beast::error_code ec, int signal) {
     if (ec) return;
     std::fprintf(stderr, "bumprad: signal %d, shutting down\n", signal);
-    context.stopping = true;
+    context.shutdown.request_stop();  // re-textures stop within a row
     listener->stop();
     stopper = std::thread([&] {  // waiting for the workers must not block the network
       queue.shutdown();
@@ -60,6 +63,7 @@ int run_server(const ServerOptions& options) {
   for (auto& t : threads) t.join();
   if (stopper.joinable()) stopper.join();
   queue.shutdown();
+  parse_pool.join();
   render_pool.join();
   std::fprintf(stderr, "bumprad: stopped\n");
   return 0;

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <string>
 
+#include "server/api.h"
 #include "server/job_queue.h"
 
 namespace bumprad {
@@ -14,10 +15,11 @@ struct ServerOptions {
   std::string bind = "127.0.0.1";
   unsigned short port = 8080;  // 0: any free port (printed at start)
   std::filesystem::path data_dir = "bumprad-data";
-  std::size_t body_limit = 8 << 20;
   int io_threads = 2;
   std::chrono::milliseconds grace{3000};  // for answers in flight at shutdown
   int max_retextures = 16;                // waiting to render before 503
+  int max_connections = 512;              // open at once; more get 503
+  ApiLimits api;
   QueueOptions queue;
 };
 

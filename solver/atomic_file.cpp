@@ -4,18 +4,20 @@
 #include <unistd.h>
 
 #include <atomic>
-#include <fstream>
-#include <stdexcept>
+#include <cerrno>
 #include <string>
+#include <system_error>
 
 namespace bumprad {
 namespace {
 
-void fsync_path(const std::filesystem::path& p, int flags) {
+// Returns errno, or 0.
+int fsync_path(const std::filesystem::path& p, int flags) {
   int fd = ::open(p.c_str(), flags);
-  if (fd < 0) return;
-  ::fsync(fd);
+  if (fd < 0) return errno;
+  int error = ::fsync(fd) == 0 ? 0 : errno;
   ::close(fd);
+  return error;
 }
 
 }  // namespace
@@ -31,7 +33,9 @@ void write_atomically(const std::filesystem::path& target,
   std::filesystem::path tmp = dir / name;
   try {
     write(tmp);
-    fsync_path(tmp, O_RDONLY);
+    // Some file systems report a full disk only when the data is flushed.
+    if (int error = fsync_path(tmp, O_RDONLY))
+      throw std::system_error(error, std::generic_category(), "cannot write " + target.string());
     std::filesystem::rename(tmp, target);
   } catch (...) {
     std::error_code ignored;
@@ -43,10 +47,24 @@ void write_atomically(const std::filesystem::path& target,
 
 void write_file_atomically(const std::filesystem::path& target, std::string_view contents) {
   write_atomically(target, [&](const std::filesystem::path& tmp) {
-    std::ofstream out(tmp, std::ios::binary);
-    out.write(contents.data(), std::streamsize(contents.size()));
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + target.string());
+    // POSIX calls rather than a stream, so that a failure says why (errno): a full disk
+    // must be told apart from other failures.
+    auto fail = [&](int error) {
+      throw std::system_error(error, std::generic_category(), "cannot write " + target.string());
+    };
+    int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) fail(errno);
+    for (std::string_view rest = contents; !rest.empty();) {
+      ssize_t n = ::write(fd, rest.data(), rest.size());
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) {
+        int error = n < 0 ? errno : EIO;
+        ::close(fd);
+        fail(error);
+      }
+      rest.remove_prefix(std::size_t(n));
+    }
+    if (::close(fd) != 0) fail(errno);
   });
 }
 

@@ -119,7 +119,7 @@ Rgb PerturbedMap::lookup(std::uint32_t slot, const Vec3& local) const {
 }
 
 void PerturbedMap::gather(const std::vector<Material>& materials, std::span<const Rgb> radiosity,
-                          Hemicube& hemicube) {
+                          Hemicube& hemicube, std::stop_token stop) {
   const DeltaFormFactors& df = hemicube.deltas();
   const std::size_t nd = directions_.size();
   // Per sample direction, the pixels behind the perturbed tangent plane (the shadowed
@@ -144,7 +144,7 @@ void PerturbedMap::gather(const std::vector<Material>& materials, std::span<cons
       material[std::size_t(vertex_slot_[mesh_.elements[e].v[k]])] = mesh_.elements[e].material;
 
   const double lift = mesh_.diagonal() * 1e-6;
-  for (std::uint32_t slot = 0; slot < slot_vertex_.size(); ++slot) {
+  for (std::uint32_t slot = 0; slot < slot_vertex_.size() && !stop.stop_requested(); ++slot) {
     const Vertex& v = mesh_.vertices[slot_vertex_[slot]];
     hemicube.render(v.position + v.normal * lift, tangent_frame(v.normal, v.dpdu), std::nullopt);
     auto ids = hemicube.item_buffer();

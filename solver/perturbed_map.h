@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "solver/hemicube.h"
@@ -63,9 +64,10 @@ class PerturbedMap {
 
   // Post-process (eq. 10, 13-19): a hemi-cube at each perturbed vertex; per sample
   // direction, B' = E + rho (N'.S - shadowed sliver), with S the radiosity-weighted
-  // directional sums (eq. 18-19). `radiosity` is per element.
+  // directional sums (eq. 18-19). `radiosity` is per element. `stop` ends it between
+  // vertices; the map is then unfinished.
   void gather(const std::vector<Material>& materials, std::span<const Rgb> radiosity,
-              Hemicube& hemicube);
+              Hemicube& hemicube, std::stop_token stop = {});
 
   // Per mesh element: does it carry the map? (For Hemicube::watch before shooting.)
   std::vector<bool> perturbed_elements() const;

@@ -44,7 +44,8 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
     out.map->finish_shooting(scene.materials);
   } else if (mode == TextureMode::Gather) {
     Hemicube hemicube(mesh, scene.solver.hemicube_resolution);
-    out.map->gather(scene.materials, out.display, hemicube);
+    out.map->gather(scene.materials, out.display, hemicube, stop);
+    if (stop.stop_requested()) return out;
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;
 
@@ -115,17 +116,18 @@ void count_map_stats(const Scene& scene, Solution& solution) {
   solution.stats.directions = solution.map->directions().size();
 }
 
-Image render(const Scene& scene, const Solution& solution) {
-  return render(scene, solution, solution.display);
+Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {
+  return render(scene, solution, solution.display, stop);
 }
 
-Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity) {
+Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
+             std::stop_token stop) {
   SurfaceDetail detail;
   detail.map = solution.map.get();
   detail.bumps = scene.bumps;
   for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
   detail.materials = scene.materials;
-  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail);
+  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail, stop);
 }
 
 }  // namespace bumprad

@@ -52,8 +52,10 @@ void count_map_stats(const Scene& scene, Solution& solution);
 
 // The view pass for `scene`'s camera and bump functions over a solution of the same
 // geometry. Objects without a bump function, or a solution without a map, render smooth.
-Image render(const Scene& scene, const Solution& solution);
+// `stop` ends it within a row; the image is then unfinished.
+Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step's radiosity (previews).
-Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity);
+Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
+             std::stop_token stop = {});
 
 }  // namespace bumprad

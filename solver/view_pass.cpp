@@ -136,14 +136,15 @@ class Tracer {
 }  // namespace
 
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail) {
+                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail,
+                  std::stop_token stop) {
   const Tracer tracer(mesh, rays, camera, element_radiosity, detail);
   const PinholeCamera pinhole(camera);
   const int n = std::max(1, camera.antialias);
   Image image(camera.width, camera.height);
   std::atomic<int> next_row{0};
   auto work = [&] {
-    for (int y; (y = next_row++) < camera.height;) {
+    for (int y; !stop.stop_requested() && (y = next_row++) < camera.height;) {
       for (int x = 0; x < camera.width; ++x) {
         std::uint64_t rng = (std::uint64_t(y) << 32) | std::uint32_t(x);
         Rgb sum(0);

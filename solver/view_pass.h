@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <stop_token>
 
 #include "solver/image.h"
 #include "solver/mesh.h"
@@ -28,7 +29,9 @@ struct SurfaceDetail {
 // Surfaces with a specular fraction k_s add k_s times what they reflect (the second pass):
 // mirrors recurse up to camera.max_depth, glossy surfaces average camera.glossy_samples
 // lobe rays. Rows are shared among the machine's cores; images do not depend on them.
+// `stop` ends the render within a row; the image is then unfinished.
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {});
+                  std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {},
+                  std::stop_token stop = {});
 
 }  // namespace bumprad

@@ -104,7 +104,7 @@ std::string small_scene_json(int max_shots, bool endless) {
       {"type": "box", "material": "green", "center": [0, 0.8, 0], "size": [0.5, 0.5, 0.5],
        "rotation_deg": [0, 30, 0], "bump": "wrinkles", "mesh": {"element_size": 0.125}}],
     "solver": {"element_size": 0.5, "hemicube_resolution": 48}})");
-  scene["solver"]["max_shots"] = endless ? 1'000'000 : max_shots;
+  scene["solver"]["max_shots"] = endless ? 300'000 : max_shots;
   if (endless) scene["solver"]["unshot_fraction"] = 0;
   return scene.dump();
 }

@@ -37,7 +37,8 @@ class ServerProcess {
 };
 
 // A small room with a light and a wrinkled box, cheap enough to solve in a test: JSON text.
-// `endless` never converges (unshot fraction 0, a million shots): a job to cancel or kill.
+// `endless` does not converge (unshot fraction 0) and takes about a minute (300,000 shots;
+// a million would be over the server's default cost limit): a job to cancel or kill.
 std::string small_scene_json(int max_shots, bool endless = false);
 // {"scene": small_scene_json(...), ...extra request keys}
 std::string small_job_json(int max_shots, int preview_every, bool endless = false);

@@ -1,0 +1,23 @@
+// What a solve and a render will cost, in seconds of a 2-core machine, estimated from the
+// scene alone before any work starts, so that a service can refuse work it cannot afford.
+// The model is linear in the counts that drive each loop and errs on the expensive side.
+#pragma once
+
+#include <string>
+
+#include "solver/scene.h"
+
+namespace bumprad {
+
+struct CostEstimate {
+  double solve_s = 0;   // every shot at max_shots, every adaptive level, and the gather
+  double render_s = 0;  // one full-quality view pass of the scene's camera
+  std::string solve_terms, render_terms;  // the counts behind each, for messages
+};
+
+CostEstimate estimate_cost(const Scene& scene);
+
+// Render cost alone (re-texturing with a new camera or bump function).
+CostEstimate estimate_render_cost(const Scene& scene);
+
+}  // namespace bumprad
