@@ -481,6 +481,10 @@ std::filesystem::path ImageFiles::resolve(const std::string& name) const {
   auto [b, f] = std::mismatch(base.begin(), base.end(), full.begin(), full.end());
   if (error || b != base.end())
     throw std::invalid_argument("\"" + name + "\" leads outside the asset directory");
+  // Opening a FIFO or a device would block, or never end: only regular files are read.
+  auto status = std::filesystem::status(full, error);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw std::invalid_argument("\"" + name + "\" is not a regular file in the asset directory");
   return full;
 }
 

@@ -342,10 +342,11 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
     if (stop.stop_requested()) {
       Response res =
           problem(request, http::status::service_unavailable, "Stopped",
-                  deadline.timed_out() ? "the re-texture ran past this server's time limit of " +
-                                             describe_duration(limits_.retexture_timeout_s) +
-                                             "; try again when it is less busy"
-                                       : std::string("the server is shutting down"));
+                  deadline.timed_out()
+                      ? "the re-texture ran past this server's time limit of " +
+                            describe_duration(limits_.retexture_timeout_s) +
+                            "; try again when it is less busy"
+                      : std::string("the client went away or the server is shutting down"));
       res.set(http::field::retry_after, "5");
       return res;
     }

@@ -23,10 +23,13 @@ namespace bumprad::test {
 using json = nlohmann::json;
 
 ServerProcess::ServerProcess(const std::filesystem::path& data_dir,
-                             const std::vector<std::string>& args)
+                             const std::vector<std::string>& args,
+                             const std::vector<std::string>& prefix)
     : log_(data_dir.string() + ".log") {
-  std::vector<std::string> argv = {BUMPRAD_BIN, "serve",      "--port",
-                                   "0",         "--data-dir", data_dir.string()};
+  std::vector<std::string> argv = prefix;
+  for (std::string a : {std::string(BUMPRAD_BIN), std::string("serve"), std::string("--port"),
+                        std::string("0"), std::string("--data-dir"), data_dir.string()})
+    argv.push_back(a);
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> c_argv;
   for (auto& a : argv) c_argv.push_back(a.data());
@@ -40,7 +43,7 @@ ServerProcess::ServerProcess(const std::filesystem::path& data_dir,
   posix_spawn_file_actions_addclose(&actions, out[0]);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log_.c_str(),
                                    O_WRONLY | O_CREAT | O_APPEND, 0644);
-  int rc = posix_spawn(&pid_, argv[0].c_str(), &actions, nullptr, c_argv.data(), environ);
+  int rc = posix_spawnp(&pid_, argv[0].c_str(), &actions, nullptr, c_argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   close(out[1]);
   stdout_fd_ = out[0];

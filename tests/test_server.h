@@ -14,13 +14,16 @@ namespace bumprad::test {
 
 class ServerProcess {
  public:
-  // Starts `bumprad serve --port 0 --data-dir DATA ARGS...` and waits until it listens.
-  ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& args = {});
+  // Starts `bumprad serve --port 0 --data-dir DATA ARGS...` and waits until it listens;
+  // `prefix` runs it through another program (e.g. {"prlimit", "--nofile=64"}).
+  ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& args = {},
+                const std::vector<std::string>& prefix = {});
   ~ServerProcess();  // SIGKILL if it still runs
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   unsigned short port() const { return port_; }
+  pid_t pid() const { return pid_; }
   HttpClient client(double timeout_s = 60) const {
     return HttpClient("127.0.0.1", port_, timeout_s);
   }

@@ -2,6 +2,8 @@
 // reason it gives; plus the defaults a minimal scene gets.
 #include "protocol/scene_json.h"
 
+#include <sys/stat.h>
+
 #include "solver/image.h"
 #include "tests/test_files.h"
 
@@ -315,6 +317,10 @@ TEST(SceneJson, ImageFilesStayInsideTheSandbox) {
   expect_rejected(with_file(outside.string()), field, "inside the asset directory", sandbox);
   expect_rejected(with_file("link.png"), field, "leads outside the asset directory", sandbox);
   expect_rejected(with_file("maps/none.png"), field, "cannot read image", sandbox);
+  // Opening a FIFO blocks until a writer comes: it must never be opened.
+  ASSERT_EQ(mkfifo((assets / "pipe.png").c_str(), 0644), 0);
+  expect_rejected(with_file("pipe.png"), field, "is not a regular file", sandbox);
+  expect_rejected(with_file("maps"), field, "is not a regular file", sandbox);
   expect_rejected(with_file("maps/grey.png"), field, "cannot be named here", ImageFiles::refused());
   d["materials"]["floor"] = {{"reflectance", 0.5}};
   d["bumps"] = {{"h", {{"type", "image"}, {"file", "maps/grey.png"}}}};

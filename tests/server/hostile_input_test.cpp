@@ -1,6 +1,16 @@
 // The service under hostile input and faults, through real sockets against the real
 // `bumprad serve`: requests built to crash it, hold it hostage or confuse its parser each get
 // a clear answer, and the server keeps serving everyone else.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <memory>
+#include <thread>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -101,6 +111,186 @@ TEST(HostileInput, HeadAnswersAsGetWithoutTheBody) {
   EXPECT_EQ(replies[1].status, 404);
   EXPECT_EQ(replies[2].status, 200);
   EXPECT_EQ(replies[2].body, "{\"status\":\"ok\"}");
+}
+
+std::string submit(const HttpClient& c, const std::string& body) {
+  HttpResponse r = c.request("POST", "/v1/jobs", body);
+  EXPECT_EQ(r.status, 202) << r.body;
+  return json::parse(r.body).value("id", "");
+}
+
+// A camera whose final render takes tens of seconds here (2048^2 pixels, 64 rays each),
+// yet is estimated under the default limits.
+json slow_camera() {
+  return {{"width", 2048}, {"height", 2048}, {"antialias", 8}};
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+// Before: a 561-byte job held the only worker for hours, and a re-texture of 8192^2 pixels
+// at 8x8 antialiasing and 256 glossy samples took hours of every core.
+TEST(HostileInput, WorkOverTheCostLimitIsRefusedBeforeItStarts) {
+  ServerProcess server(test::fresh_temp_dir("hostile"));
+  HttpClient c = server.client();
+  json job = json::parse(test::small_job_json(10, 5));
+  job["scene"]["solver"] = {
+      {"element_size", 0.03}, {"hemicube_resolution", 1024}, {"max_shots", 1000000}};
+  expect_problem(c.request("POST", "/v1/jobs", job.dump()), 422,
+                 "over this server's limit of 10 min", "/scene/solver");
+  expect_problem(
+      c.request("POST", "/v1/jobs", R"({"builtin": "cornell", "solver": {"max_shots": 1000000}})"),
+      422, "to solve (2,305 elements x 1,000,000 shots", "/solver");
+  job = json::parse(test::small_job_json(5, 5));
+  job["scene"]["camera"]["width"] = job["scene"]["camera"]["height"] = 8192;
+  job["scene"]["camera"]["antialias"] = 8;
+  job["scene"]["materials"]["green"] = {{"reflectance", 0.3}, {"specular", 0.5}, {"shininess", 50}};
+  expect_problem(c.request("POST", "/v1/jobs", job.dump()), 422, "to render (8,192x8,192 pixels",
+                 "/scene/camera");
+
+  std::string id = submit(c, test::small_job_json(5, 5));
+  test::wait_for_job(c, id, {"done"});
+  HttpResponse r = c.request(
+      "POST", "/v1/jobs/" + id + "/retexture",
+      R"({"camera": {"width": 8192, "height": 8192, "antialias": 8, "glossy_samples": 256}})");
+  expect_problem(r, 422, "over this server's limit of 30 s", "/camera");
+  EXPECT_EQ(c.request("POST", "/v1/jobs/" + id + "/retexture", "{}").status, 200);
+}
+
+// Before: nothing stopped a job or a re-texture that ran long; DELETE answered 202 while
+// the final render went on, and a client that hung up did not stop its re-texture.
+TEST(HostileInput, TimeLimitsCancelsAndHangUpsStopRenders) {
+  ServerProcess server(test::fresh_temp_dir("hostile"),
+                       {"--job-timeout", "2", "--retexture-timeout", "1", "--workers", "2"});
+  HttpClient c = server.client();
+  std::string done = submit(c, test::small_job_json(5, 5));
+  test::wait_for_job(c, done, {"done"});
+
+  // A job past its wall time fails, saying why.
+  std::string endless = submit(c, test::small_job_json(0, 50, true));
+  json failed = json::parse(test::wait_for_job(c, endless, {"failed"}, 15));
+  EXPECT_NE(failed["error"].get<std::string>().find("time limit of 2 s"), std::string::npos)
+      << failed.dump();
+
+  // A re-texture past its wall time is stopped within a row: 503, not tens of seconds.
+  const std::string slow = json{{"camera", slow_camera()}}.dump();
+  auto t = std::chrono::steady_clock::now();
+  expect_problem(c.request("POST", "/v1/jobs/" + done + "/retexture", slow), 503,
+                 "time limit of 1 s");
+  EXPECT_LT(seconds_since(t), 5);
+
+  // DELETE during the final render stops it (on a server whose time limit is far away).
+  ServerProcess roomy(test::fresh_temp_dir("hostile-roomy"));
+  HttpClient r = roomy.client();
+  json job = json::parse(test::small_job_json(10, 10));
+  job["scene"]["camera"].update(slow_camera());
+  std::string rendering = submit(r, job.dump());
+  test::wait_for_job(r, rendering, {"running"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // past the solve's 10 shots
+  t = std::chrono::steady_clock::now();
+  EXPECT_EQ(r.request("DELETE", "/v1/jobs/" + rendering).status, 202);
+  test::wait_for_job(r, rendering, {"cancelled"}, 5);
+  EXPECT_LT(seconds_since(t), 5);
+
+  // A client that hangs up stops its re-texture: the log has its end within seconds.
+  auto stopped_retextures = [&] {
+    std::string log = server.log();
+    int n = 0;
+    for (std::size_t at = 0; (at = log.find("/retexture 503", at)) != std::string::npos; ++at) ++n;
+    return n;
+  };
+  const int before = stopped_retextures();
+  {
+    RawConnection raw(server.port());
+    raw.send("POST /v1/jobs/" + done + "/retexture HTTP/1.1\r\nHost: x\r\nContent-Length: " +
+             std::to_string(slow.size()) + "\r\n\r\n" + slow);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
+  t = std::chrono::steady_clock::now();
+  while (stopped_retextures() == before && seconds_since(t) < 0.9)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(stopped_retextures(), before + 1)
+      << "not stopped before its 1 s limit: " << server.log();
+}
+
+// Before: SIGTERM waited for renders in progress, far past its 3 s grace.
+TEST(HostileInput, SigtermEndsRendersWithinTheGrace) {
+  ServerProcess server(test::fresh_temp_dir("hostile"), {"--workers", "1"});
+  HttpClient c = server.client();
+  std::string done = submit(c, test::small_job_json(5, 5));
+  test::wait_for_job(c, done, {"done"});
+  json job = json::parse(test::small_job_json(10, 10));
+  job["scene"]["camera"].update(slow_camera());
+  std::string rendering = submit(c, job.dump());
+  auto retexture = std::async(std::launch::async, [&] {
+    return c.request("POST", "/v1/jobs/" + done + "/retexture",
+                     json{{"camera", slow_camera()}}.dump());
+  });
+  test::wait_for_job(c, rendering, {"running"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  auto t = std::chrono::steady_clock::now();
+  EXPECT_EQ(server.terminate(), 0);
+  EXPECT_LT(seconds_since(t), 5);
+  HttpResponse answered = retexture.get();
+  EXPECT_EQ(answered.status, 503) << answered.body;
+}
+
+// Before: a FIFO named as an image inside --assets blocked a network thread for good, and
+// even /healthz stopped answering.
+TEST(HostileInput, AFifoInTheAssetsIsRefused) {
+  namespace fs = std::filesystem;
+  fs::path assets = test::fresh_temp_dir("hostile-assets");
+  ASSERT_EQ(mkfifo((assets / "pipe.png").c_str(), 0644), 0);
+  ServerProcess server(test::fresh_temp_dir("hostile"), {"--assets", assets.string()});
+  HttpClient c = server.client();
+  json job = json::parse(test::small_job_json(5, 5));
+  job["scene"]["bumps"]["wrinkles"] = {{"type", "image"}, {"file", "pipe.png"}};
+  expect_problem(c.request("POST", "/v1/jobs", job.dump()), 422, "is not a regular file",
+                 "/scene/bumps/wrinkles/file");
+  EXPECT_EQ(c.get("/healthz").status, 200);
+}
+
+// Before: with no descriptors left, accept failed at once, again and again, at a full core,
+// and new clients hung. Now it backs off, and clients beyond --max-connections get 503.
+TEST(HostileInput, RunningOutOfDescriptorsBacksOff) {
+  ServerProcess server(test::fresh_temp_dir("hostile"), {}, {"prlimit", "--nofile=48"});
+  std::vector<std::unique_ptr<RawConnection>> hogs;
+  for (int i = 0; i < 80; ++i) hogs.push_back(std::make_unique<RawConnection>(server.port()));
+  auto cpu_seconds = [&] {
+    std::ifstream stat("/proc/" + std::to_string(server.pid()) + "/stat");
+    std::string field;
+    for (int i = 0; i < 13; ++i) stat >> field;
+    long utime = 0, stime = 0;
+    stat >> utime >> stime;
+    return double(utime + stime) / double(sysconf(_SC_CLK_TCK));
+  };
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  double before = cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  EXPECT_LT(cpu_seconds() - before, 0.5) << "the accept loop spins";
+  std::string log = server.log();
+  std::size_t reports = 0;
+  for (std::size_t at = 0; (at = log.find("accept: ", at)) != std::string::npos; ++at) ++reports;
+  EXPECT_GE(reports, 1u);
+  EXPECT_LE(reports, 2u) << log;
+  hogs.clear();
+  EXPECT_EQ(server.client(5).get("/healthz").status, 200);
+}
+
+TEST(HostileInput, ConnectionsBeyondTheCapGet503) {
+  ServerProcess server(test::fresh_temp_dir("hostile"), {"--max-connections", "2"});
+  auto first = std::make_unique<RawConnection>(server.port());
+  RawConnection second(server.port());
+  RawConnection third(server.port());
+  auto refused = test::split_responses(third.read_all(5));
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_EQ(refused[0].status, 503);
+  EXPECT_NE(refused[0].head.find("Retry-After: 1"), std::string::npos) << refused[0].head;
+  EXPECT_NE(refused[0].body.find("at most 2 connections"), std::string::npos);
+  first.reset();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(server.client().get("/healthz").status, 200);
 }
 
 }  // namespace
