@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/raw_connection.h"
+#include "tests/test_command.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"
 
@@ -291,6 +292,67 @@ TEST(HostileInput, ConnectionsBeyondTheCapGet503) {
   first.reset();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_EQ(server.client().get("/healthz").status, 200);
+}
+
+// A data directory on a file system of a few MiB (tmpfs, mounted for the test; the suite
+// runs as root), to be filled on purpose.
+class SmallDisk {
+ public:
+  explicit SmallDisk(const std::string& name) : dir_(test::fresh_temp_dir(name)) {
+    auto mounted = test::run_command("mount -t tmpfs -o size=4m tmpfs " + dir_.string());
+    if (mounted.exit_code != 0)
+      throw std::runtime_error("cannot mount a tmpfs (the suite must run as root): " +
+                               mounted.output);
+  }
+  ~SmallDisk() { test::run_command("umount -l " + dir_.string()); }
+  const std::filesystem::path& dir() const { return dir_; }
+  // Writes until the disk refuses.
+  void fill() {
+    std::ofstream out(dir_ / "filler", std::ios::binary);
+    const std::string chunk(64 * 1024, 'x');
+    while (out.write(chunk.data(), std::streamsize(chunk.size())) && out.flush()) {
+    }
+  }
+  void make_room() { std::filesystem::remove(dir_ / "filler"); }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+// Before: a submit on a full disk answered 500 with the server's absolute path, and its
+// partial files stayed.
+TEST(HostileInput, AFullDiskAnswers507AndLeavesNoPartialJob) {
+  SmallDisk disk("hostile-disk");
+  ServerProcess server(disk.dir());
+  HttpClient c = server.client();
+  disk.fill();
+  HttpResponse r = c.request("POST", "/v1/jobs", test::small_job_json(5, 5));
+  expect_problem(r, 507, "the server's disk is full");
+  EXPECT_EQ(r.header("retry-after"), "60");
+  EXPECT_EQ(r.body.find(disk.dir().string()), std::string::npos) << r.body;
+  EXPECT_TRUE(std::filesystem::is_empty(disk.dir() / "jobs"));
+  disk.make_room();
+  std::string id = submit(c, test::small_job_json(5, 5));
+  EXPECT_EQ(json::parse(test::wait_for_job(c, id, {"done", "failed"}))["state"], "done");
+}
+
+// Before: after a kill -9 the server would not start on a full disk, since it could not
+// rewrite the record of the job that had been running.
+TEST(HostileInput, AServerKilledOnAFullDiskStartsAgain) {
+  SmallDisk disk("hostile-disk");
+  std::string id;
+  {
+    ServerProcess server(disk.dir());
+    HttpClient c = server.client();
+    id = submit(c, test::small_job_json(0, 50, true));
+    test::wait_for_job(c, id, {"running"});
+    server.kill_hard();
+  }
+  disk.fill();
+  ServerProcess again(disk.dir());
+  json job = json::parse(again.client().get("/v1/jobs/" + id).body);
+  EXPECT_EQ(job["state"], "interrupted");
+  EXPECT_NE(again.log().find("the server's disk is full"), std::string::npos) << again.log();
 }
 
 }  // namespace

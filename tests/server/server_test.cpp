@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <future>
 #include <set>
 #include <string>
@@ -326,10 +327,19 @@ TEST(Server, RestartAfterSigkillKeepsFinishedJobs) {
     image = c.get("/v1/jobs/" + done + "/image").body;
     running = submit(c, test::small_job_json(0, 20, true));
     test::wait_for_job(c, running, {"running"});
+    while (json::parse(c.get("/v1/jobs/" + running).body)["step"] < 2)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
     queued = submit(c, test::small_job_json(10, 5));
     server.kill_hard();
   }
+  // What a write cut short by the kill leaves: its temporary file.
+  const fs::path orphan = data / "jobs" / done / ".image.tmp-4242-0.png";
+  const fs::path orphan_step = data / "jobs" / running / "steps" / ".9.tmp-4242-1.png";
+  std::ofstream(orphan) << "half";
+  std::ofstream(orphan_step) << "half";
   ServerProcess server(data, {"--workers", "1"});
+  EXPECT_FALSE(fs::exists(orphan));
+  EXPECT_FALSE(fs::exists(orphan_step));
   HttpClient c = server.client();
   EXPECT_EQ(json::parse(c.get("/v1/jobs/" + done).body)["state"], "done");
   EXPECT_EQ(c.get("/v1/jobs/" + done + "/image").body, image);
@@ -339,6 +349,10 @@ TEST(Server, RestartAfterSigkillKeepsFinishedJobs) {
   json interrupted = json::parse(c.get("/v1/jobs/" + running).body);
   EXPECT_EQ(interrupted["state"], "interrupted");
   EXPECT_NE(interrupted["error"].get<std::string>().find("submit it again"), std::string::npos);
+  // Its steps are still there and the record says so, though it was not rewritten per step.
+  int step = interrupted["step"];
+  EXPECT_GE(step, 2);
+  EXPECT_EQ(c.get("/v1/jobs/" + running + "/steps/" + std::to_string(step) + ".png").status, 200);
   EXPECT_EQ(json::parse(test::wait_for_job(c, queued, {"done"}))["shots"], 10);
 }
 
