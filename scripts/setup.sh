@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs bumprad's Debian packages (only those missing) and builds Release into build/.
 # With --tests, also what the tests need: Chromium, Node.js (if the machine has none) and
-# playwright-core from the npm registry, pinned by tests/web/package-lock.json.
+# playwright-core from the npm registry, pinned by tests/web/package-lock.json, and clang
+# for the fuzz target, built into build-fuzz/.
 # Idempotent: a second run installs nothing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,6 +30,7 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 
 if [[ "${1:-}" == "--tests" ]]; then
+  scripts/fuzz.sh --build-only  # clang, ASan and UBSan, into build-fuzz/
   # npm ci reinstalls only when the lock file changed since the last install.
   if ! cmp -s tests/web/package-lock.json tests/web/node_modules/.installed-lock.json; then
     (cd tests/web && npm ci --no-audit --no-fund --loglevel=error &&
