@@ -236,8 +236,9 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
         r.error = "the server shut down while this job was running";
       } else if (deadline.timed_out()) {
         r.state = JobState::Failed;
-        r.error = "the job ran past this server's time limit of " +
-                  std::to_string(int(options_.job_timeout_s)) + " s";
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g s", options_.job_timeout_s);
+        r.error = std::string("the job ran past this server's time limit of ") + limit;
       } else {
         r.state = JobState::Cancelled;
       }

@@ -1,0 +1,91 @@
+// The API's routes in process, without sockets: what each request is answered, which work
+// is deferred off the network threads, and what a stopped re-texture says.
+#include "server/api.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "tests/server/in_process.h"
+#include "tests/test_files.h"
+#include "tests/test_server.h"
+
+namespace bumprad {
+namespace {
+
+using json = nlohmann::json;
+using http::verb;
+using test::request;
+
+std::string detail(const Response& r) {
+  return json::parse(r.body())["detail"];
+}
+
+TEST(Api, SubmitsAreParsedOffTheNetworkThreadAndRun) {
+  test::InProcessServer s(test::fresh_temp_dir("api"));
+  Request submit = request(verb::post, "/v1/jobs", test::small_job_json(5, 5));
+  Routed routed = s.api.handle(submit);
+  ASSERT_TRUE(std::holds_alternative<DeferredRequest>(routed.action));
+  EXPECT_EQ(std::get<DeferredRequest>(routed.action).pool, DeferredRequest::Pool::Parse);
+  Response accepted = s.answer(submit);
+  ASSERT_EQ(accepted.result_int(), 202) << accepted.body();
+  std::string id = json::parse(accepted.body())["id"];
+  EXPECT_EQ(accepted[http::field::location], "/v1/jobs/" + id);
+  s.wait_for(id, JobState::Done);
+
+  Response head = s.answer(request(verb::head, "/v1/jobs/" + id + "/image"));
+  Response get = s.answer(request(verb::get, "/v1/jobs/" + id + "/image"));
+  EXPECT_EQ(head.result_int(), 200);
+  EXPECT_TRUE(head.body().empty());
+  EXPECT_EQ(head[http::field::content_length], std::to_string(get.body().size()));
+  EXPECT_EQ(head[http::field::content_type], "image/png");
+
+  Routed stream = s.api.handle(request(verb::head, "/v1/jobs/" + id + "/events"));
+  ASSERT_TRUE(std::holds_alternative<Response>(stream.action));
+  EXPECT_EQ(std::get<Response>(stream.action)[http::field::content_type], "text/event-stream");
+}
+
+TEST(Api, RetexturesRenderOnTheirPoolAndStopWhenAsked) {
+  test::InProcessServer s(test::fresh_temp_dir("api"));
+  Response accepted = s.answer(request(verb::post, "/v1/jobs", test::small_job_json(5, 5)));
+  std::string id = json::parse(accepted.body())["id"];
+  s.wait_for(id, JobState::Done);
+  Request retexture = request(verb::post, "/v1/jobs/" + id + "/retexture", "{}");
+  Routed routed = s.api.handle(retexture);
+  ASSERT_TRUE(std::holds_alternative<DeferredRequest>(routed.action));
+  EXPECT_EQ(std::get<DeferredRequest>(routed.action).pool, DeferredRequest::Pool::Render);
+  EXPECT_EQ(s.answer(retexture).result_int(), 200);
+  std::stop_source gone;
+  gone.request_stop();  // the client hung up before the render began
+  Response stopped = s.answer(retexture, gone);
+  EXPECT_EQ(stopped.result_int(), 503);
+  EXPECT_NE(detail(stopped).find("client went away"), std::string::npos);
+}
+
+TEST(Api, InternalErrorsTellNothingOfTheServer) {
+  auto dir = test::fresh_temp_dir("api");
+  std::string id;
+  {
+    test::InProcessServer s(dir);
+    Response accepted = s.answer(request(verb::post, "/v1/jobs", test::small_job_json(5, 5)));
+    id = json::parse(accepted.body())["id"];
+    s.wait_for(id, JobState::Done);
+  }
+  // A damaged solution file on disk, and no copy in memory.
+  test::InProcessServer restarted(dir);
+  std::filesystem::resize_file(restarted.store.solution_path(id), 100);
+  Response r = restarted.answer(request(verb::post, "/v1/jobs/" + id + "/retexture", "{}"));
+  EXPECT_EQ(r.result_int(), 500);
+  EXPECT_EQ(detail(r), "the server could not answer this request; its log says why");
+  EXPECT_EQ(r.body().find(dir.string()), std::string::npos);
+}
+
+TEST(Api, MethodsNotAllowedListHead) {
+  test::InProcessServer s(test::fresh_temp_dir("api"));
+  Response r = s.answer(request(verb::put, "/v1/jobs"));
+  EXPECT_EQ(r.result_int(), 405);
+  EXPECT_EQ(r[http::field::allow], "GET, HEAD, POST");
+  EXPECT_EQ(s.answer(request(verb::delete_, "/healthz"))[http::field::allow], "GET, HEAD");
+}
+
+}  // namespace
+}  // namespace bumprad
