@@ -126,20 +126,25 @@ void HttpSession::watch_for_hangup(std::stop_source stop) {
 void HttpSession::write(Response response) {
   auto res = std::make_shared<Response>(std::move(response));
   if (context_.shutdown.stop_requested()) res->keep_alive(false);
+  // Counted before it is sent: a client that has its answer sees it in /metrics.
+  count_request(res->result_int());
   stream_.expires_after(context_.read_timeout);
   http::async_write(stream_, *res,
                     [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
-                      self->finish_request(res->result_int());
+                      self->not_busy();
                       if (ec || !res->keep_alive()) return self->close();
                       self->read();
                     });
 }
 
-void HttpSession::finish_request(int status) {
+void HttpSession::count_request(int status) {
   double seconds = seconds_since(started_);
   context_.metrics.count_request(method_, route_, status, seconds);
-  std::fprintf(stderr, "%s %s %d %.1f ms\n", method_.c_str(), target_.c_str(), status,
+  std::fprintf(stderr, "%s %s %d %.1f ms\n", method_.c_str(), valid_utf8(target_).c_str(), status,
                1000 * seconds);
+}
+
+void HttpSession::not_busy() {
   if (busy_) --context_.busy;
   busy_ = false;
 }
@@ -220,7 +225,8 @@ void HttpSession::end_stream() {
   if (watch_->watcher < 0) return;  // ended already
   watch_->job->unwatch(watch_->watcher);
   watch_->watcher = -1;
-  finish_request(200);
+  count_request(200);
+  not_busy();
   close();
 }
 

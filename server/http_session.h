@@ -53,7 +53,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   // Stops `stop` if the client hangs up while its request is being worked on.
   void watch_for_hangup(std::stop_source stop);
   void write(Response response);
-  void finish_request(int status);
+  void count_request(int status);  // the log line and the metrics
+  void not_busy();                  // the answer is written: shutdown need not wait for it
   void close();
 
   void start_stream(StreamRequest request);

@@ -10,6 +10,7 @@ std::filesystem::path fresh_temp_dir(const std::string& prefix) {
       std::filesystem::temp_directory_path() /
       ("bumprad-" + prefix + "-" + info->test_suite_name() + "-" + info->name());
   std::filesystem::remove_all(dir);
+  std::filesystem::remove(dir.string() + ".log");  // a test server's log beside it
   std::filesystem::create_directories(dir);
   return dir;
 }

@@ -6,7 +6,8 @@
 
 namespace bumprad::test {
 
-// <tmp>/bumprad-<prefix>-<current test name>, emptied and created.
+// <tmp>/bumprad-<prefix>-<current test name>, emptied and created (and the log a test
+// server kept beside it, DIR.log, removed).
 std::filesystem::path fresh_temp_dir(const std::string& prefix);
 
 }  // namespace bumprad::test
