@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -102,33 +103,33 @@ std::string jobs_to_json(const std::vector<JobRecord>& jobs) {
 }
 
 JobRecord job_from_json(std::string_view text) {
+  // Through Node like a request: a record is data from disk, and a number out of range
+  // must be an error, not a conversion with undefined behaviour.
   json d = parse_json(text);
+  const Node n(d, "");
+  constexpr long long kMaxInt = std::numeric_limits<int>::max();
   JobRecord j;
-  try {
-    j.id = d.at("id").get<std::string>();
-    auto state = job_state_from(d.at("state").get<std::string>());
-    if (!state) throw SceneError("/state", "unknown job state");
-    j.state = *state;
-    j.scene_name = d.at("scene").get<std::string>();
-    j.created = d.at("created_at").get<double>();
-    j.started = d.at("started_at").get<double>();
-    j.finished = d.at("finished_at").get<double>();
-    j.shots = d.at("shots").get<int>();
-    j.max_shots = d.at("max_shots").get<int>();
-    j.preview_every = d.at("preview_every").get<int>();
-    j.unshot_fraction = d.at("unshot_fraction").get<double>();
-    j.step = d.at("step").get<int>();
-    j.first_kept_step = d.at("first_kept_step").get<int>();
-    j.elements = d.at("elements").get<std::size_t>();
-    j.patches = d.at("patches").get<std::size_t>();
-    const json& t = d.at("timings");
-    j.seconds_solve = t.at("solve_s").get<double>();
-    j.seconds_texture = t.at("texture_s").get<double>();
-    j.seconds_previews = t.at("previews_s").get<double>();
-    j.error = d.value("error", "");
-  } catch (const json::exception& e) {
-    throw SceneError("", std::string("not a job record: ") + e.what());
-  }
+  j.id = n["id"].string();
+  auto state = job_state_from(n["state"].string());
+  if (!state) n["state"].fail("unknown job state");
+  j.state = *state;
+  j.scene_name = n["scene"].string();
+  j.created = n["created_at"].number();
+  j.started = n["started_at"].number();
+  j.finished = n["finished_at"].number();
+  j.shots = int(n["shots"].integer(0, kMaxInt));
+  j.max_shots = int(n["max_shots"].integer(0, kMaxInt));
+  j.preview_every = int(n["preview_every"].integer(0, kMaxInt));
+  j.unshot_fraction = n["unshot_fraction"].number();
+  j.step = int(n["step"].integer(0, kMaxInt));
+  j.first_kept_step = int(n["first_kept_step"].integer(0, kMaxInt));
+  j.elements = std::size_t(n["elements"].integer(0, kMaxInt));
+  j.patches = std::size_t(n["patches"].integer(0, kMaxInt));
+  const Node t = n["timings"];
+  j.seconds_solve = t["solve_s"].number();
+  j.seconds_texture = t["texture_s"].number();
+  j.seconds_previews = t["previews_s"].number();
+  if (auto e = n.get("error")) j.error = e->string();
   return j;
 }
 
@@ -143,12 +144,11 @@ std::string step_event_json(const JobRecord& j) {
 
 StepEvent step_event_from_json(std::string_view text) {
   json d = parse_json(text);
-  try {
-    return {d.at("step").get<int>(), d.at("shots").get<int>(), d.at("max_shots").get<int>(),
-            d.at("unshot_fraction").get<double>(), d.at("preview").get<std::string>()};
-  } catch (const json::exception& e) {
-    throw SceneError("", std::string("not a step event: ") + e.what());
-  }
+  const Node n(d, "");
+  constexpr long long kMaxInt = std::numeric_limits<int>::max();
+  return {int(n["step"].integer(0, kMaxInt)), int(n["shots"].integer(0, kMaxInt)),
+          int(n["max_shots"].integer(0, kMaxInt)), n["unshot_fraction"].number(),
+          n["preview"].string()};
 }
 
 namespace {

@@ -55,19 +55,6 @@ std::string RawConnection::read_all(double seconds) {
   }
 }
 
-bool RawConnection::closed_within(double seconds) {
-  auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-  for (;;) {
-    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) return false;
-    pollfd p{fd_, POLLIN, 0};
-    if (::poll(&p, 1, int(left.count())) <= 0) return false;
-    char buf[65536];
-    if (::recv(fd_, buf, sizeof buf, 0) <= 0) return true;
-  }
-}
-
 std::vector<RawResponse> split_responses(std::string_view bytes,
                                          const std::vector<bool>& head_only) {
   std::vector<RawResponse> out;

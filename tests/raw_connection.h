@@ -19,8 +19,6 @@ class RawConnection {
   void finish_sending();              // half-close: the server reads end of stream
   // Everything the server sends until it closes the connection or `seconds` pass.
   std::string read_all(double seconds = 10);
-  // Whether the server has closed its side within `seconds` (reads and drops what comes).
-  bool closed_within(double seconds);
 
  private:
   int fd_ = -1;

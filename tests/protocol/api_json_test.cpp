@@ -139,5 +139,25 @@ TEST(ApiJson, ProblemDetailsQuoteInvalidUtf8Escaped) {
   EXPECT_EQ(p["field"], "/\\xFE");
 }
 
+// Found by the fuzz target: a number beyond int was converted with undefined behaviour.
+TEST(ApiJson, RecordsAndEventsRefuseNumbersOutOfRange) {
+  try {
+    step_event_from_json(
+        R"({"step": 3, "shots": 30, "max_shots": 111111111111111111100, "unshot_fraction": 0.2,
+            "preview": "/v1/jobs/0123456789abcdef/steps/3.png"})");
+    ADD_FAILURE() << "accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/max_shots");
+  }
+  JobRecord r;
+  r.id = "0123456789abcdef";
+  json record = json::parse(job_to_json(r));
+  EXPECT_EQ(job_from_json(record.dump()).id, r.id);
+  record["step"] = -1;
+  EXPECT_THROW(job_from_json(record.dump()), SceneError);
+  record["step"] = 1e300;
+  EXPECT_THROW(job_from_json(record.dump()), SceneError);
+}
+
 }  // namespace
 }  // namespace bumprad
