@@ -54,7 +54,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void watch_for_hangup(std::stop_source stop);
   void write(Response response);
   void count_request(int status);  // the log line and the metrics
-  void not_busy();                  // the answer is written: shutdown need not wait for it
+  void not_busy();                 // the answer is written: shutdown need not wait for it
   void close();
 
   void start_stream(StreamRequest request);
