@@ -261,7 +261,7 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
   }
 }
 
-// Near field (DESIGN.md section 4; Baum, Rushmeier & Winget 1989): one hemi-cube at the
+// Near field (docs/architecture.md; Baum, Rushmeier & Winget 1989): one hemi-cube at the
 // patch centre misjudges receivers within a few patch sizes, by +20% for parallel unit
 // squares one unit apart. Keep the hemi-cube's visible fraction of the receiver, but take
 // its unoccluded form factor as the mean of the exact point-to-polygon values (Lambert)

@@ -27,7 +27,7 @@ TEST(FormFactorExact, LambertMatchesCornerFormulaAtTheCentreOfASquare) {
   auto square = test::rectangle_facing_down(1, 1, 1);
   double lambert = point_to_polygon(Vec3(0), Vec3(0, 0, 1), square);
   EXPECT_NEAR(lambert, 4 * corner_point_to_rectangle(0.5, 0.5, 1), 1e-12);
-  EXPECT_NEAR(lambert, 0.2395, 1e-4);  // DESIGN.md's proximity example
+  EXPECT_NEAR(lambert, 0.2395, 1e-4);  // the proximity example of docs/architecture.md
 }
 
 TEST(FormFactorExact, LambertIsIndependentOfWinding) {
