@@ -52,7 +52,7 @@ HttpResponse expect(HttpResponse r, int status) {
 
 ImageFormat format_of(const std::string& path) {
   auto f = image_format_for(path);
-  if (!f) throw UsageError(path + ": the output must end in .png or .exr");
+  if (!f) throw UsageError(path + ": the output must end in .png, .exr or .jpg");
   return *f;
 }
 
@@ -177,7 +177,7 @@ int run(const std::string& server, const std::vector<std::string>& argv) {
   if (command == "image") {
     std::string id = id_arg();
     if (a.output.empty()) throw UsageError("image needs -o OUT.png or OUT.exr");
-    std::string format = format_of(a.output) == ImageFormat::Png ? "png" : "exr";
+    const std::string format(format_name(format_of(a.output)));
     save(a.output, expect(client.get(job_url(id) + "/image?format=" + format), 200).body);
     std::printf("wrote %s\n", a.output.c_str());
     return 0;

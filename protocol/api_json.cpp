@@ -8,6 +8,7 @@
 
 #include "protocol/builtin_scenes.h"
 #include "protocol/json_node.h"
+#include "solver/camera.h"
 
 namespace bumprad {
 namespace {
@@ -176,7 +177,7 @@ std::string job_request_json(const JobSubmission& s) {
 }
 
 std::string retexture_request_json(std::string_view bumps_json, ImageFormat format) {
-  json request = {{"format", format == ImageFormat::Png ? "png" : "exr"}};
+  json request = {{"format", format_name(format)}};
   if (!bumps_json.empty()) request["bumps"] = parse_part(bumps_json, "the bump file");
   return request.dump();
 }
@@ -249,7 +250,7 @@ RetextureRequest parse_retexture_request(std::string_view body, const Scene& sol
                                          const ImageFiles& files) {
   json request = body.empty() ? json::object() : parse_json(body);
   require_object(request, "", "a JSON object");
-  Node(request, "").allow_only({"bumps", "camera", "format"}, "re-texture request");
+  Node(request, "").allow_only({"bumps", "camera", "format", "quality"}, "re-texture request");
   RetextureRequest out{solved, ImageFormat::Png};
   if (request.contains("bumps")) {
     require_object(request["bumps"], "/bumps", "an object of bump functions by name");
@@ -257,14 +258,23 @@ RetextureRequest parse_retexture_request(std::string_view body, const Scene& sol
   }
   if (request.contains("camera"))
     out.scene.camera = parse_camera_changes(request["camera"], solved.camera, "/camera");
-  if (request.contains("format")) {
-    const json& f = request["format"];
-    if (f == "exr")
-      out.format = ImageFormat::Exr;
-    else if (f != "png")
-      throw SceneError("/format", "must be \"png\" or \"exr\"");
-  }
+  if (request.contains("format"))
+    out.format =
+        Node(request["format"], "/format")
+            .one_of<ImageFormat>(
+                {{"png", ImageFormat::Png}, {"exr", ImageFormat::Exr}, {"jpeg", ImageFormat::Jpeg}},
+                "image format");
+  if (request.contains("quality") &&
+      Node(request["quality"], "/quality")
+          .one_of<bool>({{"final", false}, {"draft", true}}, "quality"))
+    out.scene.camera = draft_camera(out.scene.camera);
   return out;
+}
+
+std::string validation_json(double solve_s, double render_s, double limit_s) {
+  return json{{"valid", true},
+              {"estimate", {{"solve_s", solve_s}, {"render_s", render_s}, {"limit_s", limit_s}}}}
+      .dump();
 }
 
 std::string builtin_scenes_json() {

@@ -87,10 +87,14 @@ struct RetextureRequest {
 };
 
 // POST /v1/jobs/{id}/retexture: optional "bumps" (by name), "camera" (the keys of a camera
-// block to change) and "format" ("png" or "exr") applied to the solved scene. Geometry cannot
+// block to change), "format" ("png", "exr" or "jpeg") and "quality" ("final", or "draft":
+// draft_camera, for interactive editing) applied to the solved scene. Geometry cannot
 // change, so the stored perturbed map stays valid.
 RetextureRequest parse_retexture_request(std::string_view body, const Scene& solved,
                                          const ImageFiles& files);
+
+// POST /v1/validate's answer: the request would be accepted, at this estimated cost.
+std::string validation_json(double solve_s, double render_s, double limit_s);
 
 // GET /v1/scenes: the built-in scenes, by name and description.
 std::string builtin_scenes_json();

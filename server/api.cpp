@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "protocol/api_json.h"
+#include "protocol/builtin_scenes.h"
 #include "server/step_stream.h"
 #include "server/web_assets.h"
 #include "solver/cost.h"
@@ -181,6 +182,21 @@ Routed Api::route(const Request& request) {
                             [this](const Request& r, std::stop_source) { return submit(r); }}};
   }
 
+  if (path == "/v1/validate") {
+    if (method != http::verb::post) return {"/v1/validate", method_not_allowed(request, "POST")};
+    return {"/v1/validate",
+            DeferredRequest{DeferredRequest::Pool::Parse,
+                            [this](const Request& r, std::stop_source) { return validate(r); }}};
+  }
+  if (parts.size() == 3 && parts[0] == "v1" && parts[1] == "scenes") {
+    if (!get) return {"/v1/scenes/{name}", method_not_allowed(request, "GET, HEAD")};
+    auto text = find_builtin_scene(parts[2]);
+    if (!text)
+      return {"/v1/scenes/{name}", problem(request, http::status::not_found, "Not found",
+                                           "no built-in scene \"" + std::string(parts[2]) +
+                                               "\" (GET /v1/scenes lists them)")};
+    return {"/v1/scenes/{name}", json_answer(request, http::status::ok, std::string(*text))};
+  }
   if (parts.size() < 3 || parts[0] != "v1" || parts[1] != "jobs")
     return {"(unknown)", problem(request, http::status::not_found, "Not found",
                                  "no such resource: " + std::string(path))};
@@ -269,6 +285,14 @@ Routed Api::route(const Request& request) {
     if (!text) return not_found();
     return {route, json_answer(request, http::status::ok, std::move(*text))};
   }
+  if (sub == "solution") {
+    if (record.state != JobState::Done) return not_done("the solution file");
+    auto bytes = JobStore::read(queue_.store().solution_path(id));
+    if (!bytes) return not_found();
+    Response res = answer(request, http::status::ok, "application/octet-stream", std::move(*bytes));
+    res.set(http::field::content_disposition, "attachment; filename=\"" + id + ".bumprad\"");
+    return {route, std::move(res)};
+  }
   if (sub == "image") {
     std::string_view format = query_value(query, "format").value_or("png");
     if (format != "png" && format != "exr")
@@ -279,31 +303,46 @@ Routed Api::route(const Request& request) {
     ImageFormat f = format == "png" ? ImageFormat::Png : ImageFormat::Exr;
     auto bytes = JobStore::read(queue_.store().image_path(id, f));
     if (!bytes) return not_found();
-    return {route, answer(request, http::status::ok,
-                          f == ImageFormat::Png ? "image/png" : "image/x-exr", std::move(*bytes))};
+    return {route, answer(request, http::status::ok, mime_type(f), std::move(*bytes))};
   }
   return not_found();
 }
 
+Api::Accepted Api::accept(const Request& request) const {
+  JobRequest job_request = parse_job_request(request.body(), queue_.files());
+  const bool inline_scene = job_request.scene_name == "inline";
+  const CostEstimate cost = estimate_cost(job_request.scene);
+  if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
+    const bool solve = cost.solve_s >= cost.render_s;
+    throw SceneError(
+        solve ? (inline_scene ? "/scene/solver" : "/solver")
+              : (inline_scene ? "/scene/camera" : "/builtin"),
+        "this job would take about " + describe_duration(cost.solve_s + cost.render_s) +
+            (solve ? " to solve (" + cost.solve_terms + ")"
+                   : " to render (" + cost.render_terms + ")") +
+            ", over this server's limit of " + describe_duration(limits_.max_job_seconds) +
+            " (--max-job-seconds)" +
+            (solve ? "; lower max_shots or hemicube_resolution, or raise element_size"
+                   : "; lower the camera's width, height, antialias or glossy_samples"));
+  }
+  return {std::move(job_request), cost};
+}
+
+Response Api::validate(const Request& request) {
+  try {
+    const CostEstimate cost = accept(request).cost;
+    return json_answer(request, http::status::ok,
+                       validation_json(cost.solve_s, cost.render_s, limits_.max_job_seconds));
+  } catch (const SceneError& e) {
+    return scene_problem(request, e);
+  } catch (const std::exception& e) {
+    return internal_error(request, e.what());
+  }
+}
+
 Response Api::submit(const Request& request) {
   try {
-    JobRequest job_request = parse_job_request(request.body(), queue_.files());
-    const bool inline_scene = job_request.scene_name == "inline";
-    const CostEstimate cost = estimate_cost(job_request.scene);
-    if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
-      const bool solve = cost.solve_s >= cost.render_s;
-      throw SceneError(
-          solve ? (inline_scene ? "/scene/solver" : "/solver")
-                : (inline_scene ? "/scene/camera" : "/builtin"),
-          "this job would take about " + describe_duration(cost.solve_s + cost.render_s) +
-              (solve ? " to solve (" + cost.solve_terms + ")"
-                     : " to render (" + cost.render_terms + ")") +
-              ", over this server's limit of " + describe_duration(limits_.max_job_seconds) +
-              " (--max-job-seconds)" +
-              (solve ? "; lower max_shots or hemicube_resolution, or raise element_size"
-                     : "; lower the camera's width, height, antialias or glossy_samples"));
-    }
-    auto job = queue_.submit(job_request);
+    auto job = queue_.submit(accept(request).job);
     Response res = json_answer(request, http::status::accepted, job_to_json(job->record()));
     res.set(http::field::location, job_url(job->record().id));
     return res;
@@ -350,8 +389,7 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
       res.set(http::field::retry_after, "5");
       return res;
     }
-    bool png = r.format == ImageFormat::Png;
-    return answer(request, http::status::ok, png ? "image/png" : "image/x-exr",
+    return answer(request, http::status::ok, mime_type(r.format),
                   encode_image(image, r.format, r.scene.camera.exposure));
   } catch (const SceneError& e) {
     return scene_problem(request, e);

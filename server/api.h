@@ -14,6 +14,7 @@
 #include "server/job_queue.h"
 #include "server/metrics.h"
 #include "server/watchdog.h"
+#include "solver/cost.h"
 
 namespace bumprad {
 
@@ -63,6 +64,13 @@ class Api {
 
  private:
   Routed route(const Request& request);
+  // A job request parsed, validated and within the cost limit; throws SceneError.
+  struct Accepted {
+    JobRequest job;
+    CostEstimate cost;
+  };
+  Accepted accept(const Request& request) const;
+  Response validate(const Request& request);
   Response submit(const Request& request);
   Response retexture(const Request& request, const std::string& id, std::stop_source stop);
   JobQueue& queue_;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "solver/camera.h"
 #include "solver/image.h"
 #include "solver/solution.h"
 #include "solver/stopwatch.h"
@@ -276,12 +277,10 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
         rec.seconds_previews += seconds_since(t);
       });
     };
-    // Previews are drafts, one ray per pixel and few glossy samples, and take at most
-    // kPreviewShare of the job's time: a step that comes sooner shows in the next preview.
-    // Full-quality previews of paper-room took 7 times as long as its solve.
+    // Previews are drafts (draft_camera) and take at most kPreviewShare of the job's
+    // time: a step that comes sooner shows in the next preview.
     Scene draft = scene;
-    draft.camera.antialias = 1;
-    draft.camera.glossy_samples = std::min(draft.camera.glossy_samples, 2);
+    draft.camera = draft_camera(scene.camera);
     Solution solution = solve(
         scene,
         [&](const Snapshot& snap, const Solution& partial) {

@@ -1,11 +1,19 @@
 #include "solver/camera.h"
 
+#include <algorithm>
+
 #include <cmath>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
 namespace bumprad {
+
+Camera draft_camera(Camera camera) {
+  camera.antialias = 1;
+  camera.glossy_samples = std::min(camera.glossy_samples, 2);
+  return camera;
+}
 
 PinholeCamera::PinholeCamera(const Camera& c)
     : position_(c.position),

@@ -35,38 +35,55 @@ std::optional<ImageFormat> image_format_for(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
   if (ext == ".png") return ImageFormat::Png;
   if (ext == ".exr") return ImageFormat::Exr;
+  if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::Jpeg;
   return std::nullopt;
 }
 
+std::string_view format_name(ImageFormat format) {
+  return format == ImageFormat::Png ? "png" : format == ImageFormat::Exr ? "exr" : "jpeg";
+}
+
+std::string_view mime_type(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::Png:
+      return "image/png";
+    case ImageFormat::Exr:
+      return "image/x-exr";
+    case ImageFormat::Jpeg:
+      return "image/jpeg";
+  }
+  return "application/octet-stream";
+}
+
 std::string encode_image(const Image& image, ImageFormat format, double exposure) {
-  const char* name = format == ImageFormat::Png ? "png" : "exr";
+  const std::string name(format_name(format));
   std::vector<unsigned char> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
   auto out = OIIO::ImageOutput::create(name);
-  if (!out) throw std::runtime_error(std::string("no ") + name + " writer: " + OIIO::geterror());
+  if (!out) throw std::runtime_error("no " + name + " writer: " + OIIO::geterror());
   out->set_ioproxy(&proxy);
   bool ok;
-  if (format == ImageFormat::Png) {
+  if (format != ImageFormat::Exr) {
     std::vector<std::uint8_t> px(image.rgb.size());
     for (std::size_t i = 0; i < px.size(); ++i)
       px[i] = std::uint8_t(std::lround(255 * srgb_encode(exposure * image.rgb[i])));
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    ok = out->open(std::string("memory.") + name, spec) &&
-         out->write_image(OIIO::TypeDesc::UINT8, px.data());
+    if (format == ImageFormat::Jpeg) spec.attribute("CompressionQuality", 90);
+    ok = out->open("memory." + name, spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data());
   } else {
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    ok = out->open(std::string("memory.") + name, spec) &&
+    ok = out->open("memory." + name, spec) &&
          out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
   }
   ok = out->close() && ok;
-  if (!ok) throw std::runtime_error(std::string("encoding ") + name + ": " + out->geterror());
+  if (!ok) throw std::runtime_error("encoding " + name + ": " + out->geterror());
   return std::string(bytes.begin(), bytes.end());
 }
 
 void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
   auto format = image_format_for(path);
   if (!format)
-    throw std::runtime_error(path.string() + ": unsupported image type (use .png or .exr)");
+    throw std::runtime_error(path.string() + ": unsupported image type (use .png, .exr or .jpg)");
   write_file_atomically(path, encode_image(image, *format, exposure));
 }
 

@@ -24,16 +24,22 @@ struct Image {
 // Linear [0,1] to the sRGB transfer curve.
 double srgb_encode(double linear);
 
-enum class ImageFormat { Png, Exr };
+// JPEG encodes several times faster than PNG: what interactive drafts are sent as.
+enum class ImageFormat { Png, Exr, Jpeg };
 
-// By extension (.png or .exr, any case); nullopt for any other.
+// By extension (.png, .exr, .jpg or .jpeg, any case); nullopt for any other.
 std::optional<ImageFormat> image_format_for(const std::filesystem::path& path);
 
-// The file's bytes: PNG applies `exposure` and the sRGB curve; EXR keeps linear radiance
-// and ignores exposure. Files and HTTP bodies share this one encoder.
+// "png", "exr", "jpeg": the names requests use.
+std::string_view format_name(ImageFormat format);
+// "image/png", "image/x-exr", "image/jpeg".
+std::string_view mime_type(ImageFormat format);
+
+// The file's bytes: PNG and JPEG (quality 90) apply `exposure` and the sRGB curve; EXR keeps
+// linear radiance and ignores exposure. Files and HTTP bodies share this one encoder.
 std::string encode_image(const Image& image, ImageFormat format, double exposure);
 
-// The format follows the extension (.png or .exr); other extensions are refused.
+// The format follows the extension (.png, .exr, .jpg); other extensions are refused.
 // Throws std::runtime_error naming the path on failure.
 void write_image(const std::filesystem::path& path, const Image& image, double exposure);
 

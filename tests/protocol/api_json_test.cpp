@@ -108,6 +108,24 @@ TEST(ApiJson, RetextureRequests) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), "/format");
   }
+  // Drafts for interactive editing: one ray a pixel, few glossy samples, JPEG.
+  solved.camera.antialias = 3;
+  solved.camera.glossy_samples = 16;
+  RetextureRequest draft = parse_retexture_request(R"({"quality": "draft", "format": "jpeg"})",
+                                                   solved, ImageFiles::refused());
+  EXPECT_EQ(draft.scene.camera.antialias, 1);
+  EXPECT_EQ(draft.scene.camera.glossy_samples, 2);
+  EXPECT_EQ(draft.format, ImageFormat::Jpeg);
+  EXPECT_EQ(parse_retexture_request(R"({"quality": "final"})", solved, ImageFiles::refused())
+                .scene.camera.antialias,
+            3);
+  try {
+    parse_retexture_request(R"({"quality": "rough"})", solved, ImageFiles::refused());
+    ADD_FAILURE();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/quality");
+    EXPECT_NE(std::string(e.what()).find("expected final or draft"), std::string::npos);
+  }
   try {
     parse_retexture_request(R"({"camera": {"width": -1}})", solved, ImageFiles::refused());
     ADD_FAILURE();

@@ -87,5 +87,40 @@ TEST(Api, MethodsNotAllowedListHead) {
   EXPECT_EQ(s.answer(request(verb::delete_, "/healthz"))[http::field::allow], "GET, HEAD");
 }
 
+// What the viewer needs: validation as a submit would do it, example scenes, drafts, downloads.
+TEST(Api, ValidationExamplesDraftsAndDownloads) {
+  test::InProcessServer s(test::fresh_temp_dir("api"));
+  Response valid = s.answer(request(verb::post, "/v1/validate", test::small_job_json(5, 5)));
+  ASSERT_EQ(valid.result_int(), 200) << valid.body();
+  json v = json::parse(valid.body());
+  EXPECT_EQ(v["valid"], true);
+  EXPECT_GT(v["estimate"]["solve_s"].get<double>(), 0);
+  EXPECT_EQ(v["estimate"]["limit_s"], 600);
+  EXPECT_TRUE(s.queue.list().empty()) << "validating queues nothing";
+  json bad = json::parse(test::small_job_json(5, 5));
+  bad["scene"]["objects"][2]["size"][1] = 0;
+  Response invalid = s.answer(request(verb::post, "/v1/validate", bad.dump()));
+  EXPECT_EQ(invalid.result_int(), 422);
+  EXPECT_EQ(json::parse(invalid.body())["field"], "/scene/objects/2/size/1");
+
+  Response example = s.answer(request(verb::get, "/v1/scenes/cornell"));
+  ASSERT_EQ(example.result_int(), 200);
+  EXPECT_TRUE(json::parse(example.body()).contains("objects"));
+  EXPECT_EQ(s.answer(request(verb::get, "/v1/scenes/attic")).result_int(), 404);
+
+  std::string id = json::parse(
+      s.answer(request(verb::post, "/v1/jobs", test::small_job_json(5, 5))).body())["id"];
+  s.wait_for(id, JobState::Done);
+  Response solution = s.answer(request(verb::get, "/v1/jobs/" + id + "/solution"));
+  ASSERT_EQ(solution.result_int(), 200);
+  EXPECT_EQ(solution.body(), *JobStore::read(s.store.solution_path(id)));
+  EXPECT_NE(solution[http::field::content_disposition].find(id + ".bumprad"), std::string::npos);
+  Response draft = s.answer(request(verb::post, "/v1/jobs/" + id + "/retexture",
+                                    R"({"quality": "draft", "format": "jpeg"})"));
+  ASSERT_EQ(draft.result_int(), 200) << draft.body();
+  EXPECT_EQ(draft[http::field::content_type], "image/jpeg");
+  EXPECT_EQ(draft.body().substr(0, 3), std::string("\xff\xd8\xff", 3));
+}
+
 }  // namespace
 }  // namespace bumprad

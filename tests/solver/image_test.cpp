@@ -52,8 +52,16 @@ TEST(Image, EncodesInMemoryTheBytesAFileWouldHold) {
   EXPECT_EQ(png.size(), fs::file_size(p));
   std::string exr = encode_image(gradient(), ImageFormat::Exr, 1);
   EXPECT_EQ(exr.substr(0, 4), std::string("\x76\x2f\x31\x01", 4));  // OpenEXR magic
+  std::string jpeg = encode_image(gradient(), ImageFormat::Jpeg, 1);
+  EXPECT_EQ(jpeg.substr(0, 3), std::string("\xff\xd8\xff", 3));  // JPEG SOI marker
+  write_image(p.parent_path() / "g.jpg", gradient(), 1);
+  EXPECT_NEAR(read_image(p.parent_path() / "g.jpg").at(3, 2).g, gradient().at(3, 2).g, 0.05)
+      << "lossy, but close";
   EXPECT_EQ(image_format_for("A.EXR"), ImageFormat::Exr);
-  EXPECT_EQ(image_format_for("a.jpg"), std::nullopt);
+  EXPECT_EQ(image_format_for("a.JPEG"), ImageFormat::Jpeg);
+  EXPECT_EQ(image_format_for("a.tif"), std::nullopt);
+  EXPECT_EQ(mime_type(ImageFormat::Jpeg), "image/jpeg");
+  EXPECT_EQ(format_name(ImageFormat::Exr), "exr");
 }
 
 TEST(Image, RefusesUnknownTypesAndLeavesNoTemporaryFiles) {
