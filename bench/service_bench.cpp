@@ -3,7 +3,8 @@
 // Submits builtin SCENE (default wrinkled-box), then reports the submit's answer time, the
 // time to the first streamed step and to done, the server's own solve and preview times,
 // and N re-textures of the solved job with alternating bump functions (median and p95),
-// each a whole HTTP round trip with a 512 x 512 PNG answer.
+// each a whole HTTP round trip with a 512 x 512 PNG answer, then N drafts (JPEG, one ray a
+// pixel) one after another as a dragged slider sends them, in frames a second.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -54,20 +55,33 @@ int main(int argc, char** argv) {
     if (end != "done") throw std::runtime_error("the job ended " + end);
 
     json bumps = json::parse(client.get("/v1/jobs/" + id + "/scene").body)["bumps"];
-    std::vector<double> times;
-    for (int i = 0; i < retextures && !bumps.empty(); ++i) {
-      json request = {{"bumps",
-                       {{bumps.begin().key(),
-                         {{"type", i % 2 ? "bricks" : "dimples"},
-                          {"amplitude", 0.01},
-                          {"scale", 4 + i % 3}}}}}};
-      auto t = Clock::now();
-      HttpResponse r = client.request("POST", "/v1/jobs/" + id + "/retexture", request.dump());
-      times.push_back(seconds_since(t));
-      if (r.status != 200) throw std::runtime_error(r.problem());
-    }
-    std::sort(times.begin(), times.end());
-    auto at = [&](double q) { return 1000 * times[std::size_t(q * double(times.size() - 1))]; };
+    // Each re-texture a whole HTTP round trip, one after another as a viewer sends them:
+    // full quality (the camera's antialiasing, PNG), then drafts (one ray a pixel, JPEG) as
+    // a dragged slider sends them.
+    auto retexture_times = [&](const json& extra) {
+      std::vector<double> times;
+      for (int i = 0; i < retextures && !bumps.empty(); ++i) {
+        json request = {{"bumps",
+                         {{bumps.begin().key(),
+                           {{"type", i % 2 ? "bricks" : "dimples"},
+                            {"amplitude", 0.01 + 0.001 * i},
+                            {"scale", 4 + i % 3}}}}}};
+        request.update(extra);
+        auto t = Clock::now();
+        HttpResponse r = client.request("POST", "/v1/jobs/" + id + "/retexture", request.dump());
+        times.push_back(seconds_since(t));
+        if (r.status != 200) throw std::runtime_error(r.problem());
+      }
+      std::sort(times.begin(), times.end());
+      return times;
+    };
+    const std::vector<double> finals = retexture_times(json::object());
+    const std::vector<double> drafts = retexture_times({{"quality", "draft"}, {"format", "jpeg"}});
+    auto at = [](const std::vector<double>& times, double q) {
+      return 1000 * times[std::size_t(q * double(times.size() - 1))];
+    };
+    double drafts_s = 0;
+    for (double t : drafts) drafts_s += t;
 
     std::printf("%s on %s: %d shots, %d elements, %d steps\n", scene.c_str(), server.c_str(),
                 job["shots"].get<int>(), job["elements"].get<int>(), job["step"].get<int>());
@@ -76,11 +90,14 @@ int main(int argc, char** argv) {
     std::printf("  done                 %8.3f s (server: solve %.3f s, previews %.3f s)\n", done_s,
                 job["timings"]["solve_s"].get<double>(),
                 job["timings"]["previews_s"].get<double>());
-    if (times.empty())
+    if (finals.empty()) {
       std::printf("  re-texture           (the scene has no bump functions)\n");
-    else
+    } else {
       std::printf("  re-texture x%d       median %.1f ms, p95 %.1f ms (HTTP round trip, PNG)\n",
-                  retextures, at(0.5), at(0.95));
+                  retextures, at(finals, 0.5), at(finals, 0.95));
+      std::printf("  draft re-texture x%d median %.1f ms, p95 %.1f ms: %.1f frames a second\n",
+                  retextures, at(drafts, 0.5), at(drafts, 0.95), double(drafts.size()) / drafts_s);
+    }
     client.request("DELETE", "/v1/jobs/" + id);
     return 0;
   } catch (const std::exception& e) {

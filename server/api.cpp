@@ -81,7 +81,7 @@ Response scene_problem(const Request& request, const SceneError& e) {
   bool malformed = dynamic_cast<const MalformedJson*>(&e) != nullptr;
   return problem(
       request, malformed ? http::status::bad_request : http::status::unprocessable_entity,
-      malformed ? "Malformed JSON" : "Invalid request", e.what(),
+      malformed ? "Malformed JSON" : "Invalid request", malformed ? e.reason() : e.what(),
       malformed ? std::string_view{} : std::string_view(e.pointer().empty() ? "/" : e.pointer()));
 }
 

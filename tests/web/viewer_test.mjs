@@ -1,6 +1,7 @@
 // Drives the web viewer (server/web/) in Debian's headless Chromium through playwright-core:
-// submit a built-in scene, see a streamed preview and the progress bar, then re-texture with
-// new bump parameters and see the new image beside the old. Usage:
+// the first screen, the scene editor's checks at the offending line, a submitted job's
+// stream, progress and convergence curve, the job list's downloads, then a dragged slider
+// re-texturing live and a split before/after view. Usage:
 //   node tests/web/viewer_test.mjs BUMPRAD_BIN WORK_DIR
 import { spawn } from "node:child_process";
 import { mkdirSync, rmSync } from "node:fs";
@@ -44,40 +45,90 @@ try {
   page.on("pageerror", (e) => errors.push(e.message));
   await page.goto(base + "/");
   await page.waitForSelector("#scene-select option[value='wrinkled-box']", { state: "attached" });
+  check(await page.isVisible("#no-jobs"), "the first screen says there are no jobs yet");
+  check(!(await page.isVisible("#after")), "no broken image where the re-texture will go");
+
+  // The editor: an example scene loads and is valid; errors are shown at their line.
   await page.selectOption("#scene-select", "wrinkled-box");
+  await page.click("#edit-example");
+  await page.waitForFunction(() => document.getElementById("scene-check").textContent.startsWith("Valid"));
+  check(true, "an example scene loads into the editor and the server finds it valid");
+  const scene = [
+    "{",
+    '  "camera": {"position": [0, 1, -3], "look_at": [0, 1, 0]},',
+    '  "materials": {"m": {"reflectance": 0.5}},',
+    '  "objects": [',
+    '    {"type": "box", "material": "m",',
+    '     "center": [0, 1, 0],',
+    '     "size": [1, -2, 1]}',
+    "  ]",
+    "}",
+  ].join("\n");
+  await page.fill("#scene-json", scene);
+  await page.waitForFunction(() => document.getElementById("scene-check").textContent.startsWith("Line"));
+  let said = await page.textContent("#scene-check");
+  check(said.startsWith("Line 7: /scene/objects/0/size/1: must be greater than 0"),
+        `an invalid value is shown at its line (${said})`);
+  await page.fill("#scene-json", scene.replace('"m",', '"m"'));
+  await page.waitForFunction(() => /^Line 6: malformed/.test(document.getElementById("scene-check").textContent));
+  check(true, "malformed JSON is shown at its line");
+
+  // Submit a built-in scene: the first frame, the progress bar, the convergence curve.
+  await page.check("#use-builtin");
   await page.fill("#shots", "24");
   await page.fill("#preview-every", "6");
   await page.click("#submit");
-
-  // The live <img> shows streamed frames; the bar fills; the job ends done.
   await page.waitForFunction(() => document.getElementById("live").naturalWidth > 0, null,
                              { timeout: 60000 });
   check(await page.$eval("#live", (img) => img.naturalWidth) === 512, "a preview frame arrived");
   await page.waitForFunction(() => document.getElementById("state").textContent === "done", null,
                              { timeout: 120000 });
   check(await page.$eval("#progress", (p) => p.value) === 1, "the progress bar is full");
+  check(Number(await page.$eval("#curve", (s) => s.dataset.points)) >= 2,
+        "the convergence curve has a point per step");
+  await page.selectOption("#curve-axis", "seconds");
+  check((await page.textContent("#curve")).includes("seconds"), "the curve can be drawn against seconds");
+  await page.waitForFunction(() => document.querySelector("#jobs tbody tr td:nth-child(4)")?.textContent === "done");
+  const links = await page.$$eval("#jobs tbody a", (as) => as.map((a) => a.getAttribute("href")));
+  check(links.some((h) => h.endsWith("/solution")) && links.some((h) => h.endsWith("format=exr")),
+        "the job list links the image, the EXR and the solution");
+  const solution = await page.evaluate(async (href) => (await fetch(href)).status,
+                                       links.find((h) => h.endsWith("/solution")));
+  check(solution === 200, "the solution downloads");
   await page.waitForFunction(() => document.getElementById("before").naturalWidth > 0);
   check(await page.$eval("#bump-name", (s) => s.value) === "wrinkles",
         "the scene's bump function is offered for editing");
 
-  // Re-texture: new type, amplitude and scale; the new image appears beside the old.
+  // Drag the amplitude slider: drafts follow it, a full-quality image ends it.
+  const t0 = Date.now();
+  await page.evaluate(async () => {
+    const slider = document.getElementById("param-amplitude");
+    for (let i = 0; i <= 30; i++) {
+      slider.value = String(0.002 + i * 0.001);
+      slider.dispatchEvent(new Event("input"));
+      await new Promise((r) => setTimeout(r, 33));
+    }
+    slider.dispatchEvent(new Event("change"));
+  });
+  await page.waitForFunction(() => window.viewerStats.finals >= 1 && !window.viewerStats.busy,
+                             null, { timeout: 60000 });
+  const stats = await page.evaluate(() => ({ drafts: window.viewerStats.drafts }));
+  const seconds = (Date.now() - t0) / 1000;
+  console.log(`info: ${stats.drafts} drafts in ${seconds.toFixed(1)} s of dragging and settling`);
+  check(stats.drafts >= 2, "drafts followed the slider");
+  check(await page.isVisible("#after"), "the re-textured image is shown");
+  check((await page.textContent("#retexture-time")).startsWith("full quality"),
+        "the image at rest is full quality");
+  check((await page.textContent("#after-caption")).includes("amplitude 0.032"),
+        "the image at rest shows the slider's last value");
   await page.selectOption("#bump-type", "bricks");
-  await page.fill("#bump-amplitude", "0.02");
-  await page.fill("#bump-scale", "4");
-  await page.click("#retexture");
-  await page.waitForFunction(() => document.getElementById("after").naturalWidth > 0, null,
-                             { timeout: 60000 });
-  check(await page.$eval("#after", (img) => img.src.startsWith("blob:")), "a re-textured image appeared");
-  check((await page.textContent("#retexture-time")).includes("no solve"), "the re-texture was timed");
-  check((await page.textContent("#after-caption")).includes("bricks"), "the caption names the new bump");
+  check(await page.isVisible("#param-mortar"), "a type's own parameters get sliders");
+  await page.waitForFunction(() => document.getElementById("after-caption").textContent.includes("bricks"));
+  await page.fill("#split", "30");
+  await page.dispatchEvent("#split", "input");
+  check((await page.$eval("#after", (img) => img.style.clipPath)).includes("30%"),
+        "the split slider moves the before/after boundary");
   await page.screenshot({ path: join(work, "viewer.png"), fullPage: true });
-
-  // A bad parameter is refused with the field named, and the page says so.
-  await page.fill("#bump-scale", "-1");
-  await page.click("#retexture");
-  await page.waitForFunction(() => document.getElementById("error").textContent.length > 0);
-  check((await page.textContent("#error")).includes("/bumps/wrinkles/scale"),
-        "an invalid bump names its field");
   check(errors.length === 0, `no script errors (${errors.join("; ")})`);
 } catch (e) {
   console.error(e.message);
