@@ -1,5 +1,7 @@
 // bumprad-client: submits scenes to a bumprad server, follows their refinement steps,
 // fetches images and re-textures solved jobs. Talks to the API in protocol/openapi.json.
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -11,8 +13,10 @@
 
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
+#include "clients/progress_bar.h"
 #include "protocol/api_json.h"
 #include "solver/atomic_file.h"
+#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {
@@ -103,9 +107,12 @@ void save(const std::filesystem::path& path, const std::string& bytes) {
   write_file_atomically(path, bytes);
 }
 
-// Follows the job's events, saving each step's preview; returns the final state's name.
+// Follows the job's events, saving each step's preview; returns the final state's name. On a
+// terminal one progress line is redrawn; otherwise (a pipe, a script) a line per step.
 std::string watch(const HttpClient& client, const std::string& id, const std::string& dir) {
   std::filesystem::create_directories(dir);
+  const bool terminal = ::isatty(STDOUT_FILENO) == 1;
+  const auto started = Clock::now();
   EventStreamParser parser;
   std::string final_state;
   auto r = client.stream(job_url(id) + "/events", [&](std::string_view bytes) {
@@ -117,11 +124,17 @@ std::string watch(const HttpClient& client, const std::string& id, const std::st
           auto path =
               std::filesystem::path(dir) / (id + "-step-" + std::to_string(step.step) + ".png");
           save(path, png.body);
-          std::printf("step %d: %d/%d shots, unshot %.2f%% -> %s\n", step.step, step.shots,
-                      step.max_shots, 100 * step.unshot_fraction, path.c_str());
+          if (terminal)
+            std::printf("\r%s", progress_line(step.shots, step.max_shots, step.unshot_fraction,
+                                              step.step, seconds_since(started))
+                                    .c_str());
+          else
+            std::printf("step %d: %d/%d shots, unshot %.2f%% -> %s\n", step.step, step.shots,
+                        step.max_shots, 100 * step.unshot_fraction, path.c_str());
           std::fflush(stdout);
         }
       } else if (e.name != "state") {
+        if (terminal) std::printf("\nsteps saved in %s\n", dir.c_str());
         final_state = e.name;
         JobRecord job = job_from_json(e.data);
         if (!job.error.empty()) std::fprintf(stderr, "job %s: %s\n", id.c_str(), job.error.c_str());

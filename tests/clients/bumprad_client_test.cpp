@@ -74,6 +74,21 @@ TEST_F(BumpradClient, SubmitWatchImageRetextureCancel) {
   EXPECT_NE(gone.output.find("Not found (404)"), std::string::npos) << gone.output;
 }
 
+// On a terminal (a pseudo-terminal from script(1)) --watch redraws one progress line.
+TEST_F(BumpradClient, WatchDrawsAProgressBarOnATerminal) {
+  write("scene.json", test::small_scene_json(30));
+  const std::string command = std::string(BUMPRAD_CLIENT_BIN) +
+                              " --server http://127.0.0.1:" + std::to_string(server_->port()) +
+                              " submit " + path("scene.json") +
+                              " --preview-every 10 --watch --out " + path("previews");
+  auto watched = test::run_command("script -qec '" + command + "' /dev/null");
+  ASSERT_EQ(watched.exit_code, 0) << watched.output;
+  EXPECT_NE(watched.output.find("\r[###"), std::string::npos) << watched.output;
+  EXPECT_NE(watched.output.find("] 100%  30/30 shots"), std::string::npos) << watched.output;
+  EXPECT_EQ(watched.output.find("step 1: "), std::string::npos) << "no line per step";
+  EXPECT_NE(watched.output.find("done -> "), std::string::npos) << watched.output;
+}
+
 TEST_F(BumpradClient, CancelARunningJob) {
   write("endless.json", test::small_scene_json(0, /*endless=*/true));
   auto submitted = client("submit " + path("endless.json"));
