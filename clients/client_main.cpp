@@ -26,9 +26,10 @@ constexpr const char* kUsage =
     "  submit SCENE.json|builtin:NAME [--bump B.json] [--shots N] [--preview-every K]\n"
     "         [--watch] [--out DIR]   prints the job id; --watch saves each preview to\n"
     "                                 DIR/ID-step-N.png as it arrives, then DIR/ID.png\n"
+    "                                 (on a terminal it draws a progress bar)\n"
     "  status ID                      the job as JSON\n"
     "  image ID -o OUT.(png|exr)      the final image\n"
-    "  retexture ID --bump B.json -o OUT.(png|exr)   re-render with new bump functions\n"
+    "  retexture ID --bump B.json -o OUT.(png|exr|jpg)   re-render with new bump functions\n"
     "  cancel ID                      cancel a queued or running job, or delete a finished one\n"
     "The server defaults to $BUMPRAD_SERVER, else http://127.0.0.1:8080.\n";
 
@@ -190,14 +191,17 @@ int run(const std::string& server, const std::vector<std::string>& argv) {
   if (command == "image") {
     std::string id = id_arg();
     if (a.output.empty()) throw UsageError("image needs -o OUT.png or OUT.exr");
-    const std::string format(format_name(format_of(a.output)));
+    const ImageFormat f = format_of(a.output);
+    if (f == ImageFormat::Jpeg)
+      throw UsageError("the final image is kept as PNG and EXR: use -o OUT.png or OUT.exr");
+    const std::string format(format_name(f));
     save(a.output, expect(client.get(job_url(id) + "/image?format=" + format), 200).body);
     std::printf("wrote %s\n", a.output.c_str());
     return 0;
   }
   if (command == "retexture") {
     std::string id = id_arg();
-    if (a.output.empty()) throw UsageError("retexture needs -o OUT.png or OUT.exr");
+    if (a.output.empty()) throw UsageError("retexture needs -o OUT.png, OUT.exr or OUT.jpg");
     std::string bumps = a.bump.empty() ? "" : read_file(a.bump, "the bump file");
     std::string body = retexture_request_json(bumps, format_of(a.output));
     save(a.output, expect(client.request("POST", job_url(id) + "/retexture", body), 200).body);

@@ -119,7 +119,10 @@ TEST_F(BumpradClient, FailuresSayWhatWentWrong) {
   EXPECT_NE(broken.output.find("the scene: malformed JSON"), std::string::npos) << broken.output;
   auto usage = client("image 0123456789abcdef -o out.tiff");
   EXPECT_EQ(usage.exit_code, 2);
-  EXPECT_NE(usage.output.find("must end in .png or .exr"), std::string::npos);
+  EXPECT_NE(usage.output.find("must end in .png, .exr or .jpg"), std::string::npos);
+  auto jpeg = client("image 0123456789abcdef -o out.jpg");
+  EXPECT_EQ(jpeg.exit_code, 2);
+  EXPECT_NE(jpeg.output.find("kept as PNG and EXR"), std::string::npos) << jpeg.output;
 }
 
 }  // namespace
