@@ -1,5 +1,7 @@
 #include "solver/vertex_radiosity.h"
 
+#include <glm/geometric.hpp>
+
 namespace bumprad {
 
 std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity) {
@@ -27,6 +29,20 @@ Rgb interpolate(const Element& e, std::span<const Rgb> values, double u, double 
   Rgb sum(0);
   for (int k = 0; k < e.vertex_count; ++k) sum += w[std::size_t(k)] * values[e.v[std::size_t(k)]];
   return sum;
+}
+
+SurfaceAt surface_at(const Mesh& mesh, const Element& e, double u, double v) {
+  SurfaceAt s{corner_weights(e, u, v), glm::dvec2(0), Vec3(0), Vec3(0), Vec3(0)};
+  for (int k = 0; k < e.vertex_count; ++k) {
+    const Vertex& vertex = mesh.vertices[e.v[std::size_t(k)]];
+    const double w = s.weights[std::size_t(k)];
+    s.uv += w * vertex.uv;
+    s.normal += w * vertex.normal;
+    s.dpdu += w * vertex.dpdu;
+    s.dpdv += w * vertex.dpdv;
+  }
+  s.normal = glm::normalize(s.normal);
+  return s;
 }
 
 }  // namespace bumprad

@@ -19,4 +19,14 @@ std::array<double, 4> corner_weights(const Element& element, double u, double v)
 
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
 
+// The smooth surface at (u, v) of an element, interpolated from its corners as radiosity is:
+// the surface's (u,v) parameters, its unit normal and its tangents. The view pass and the
+// path tracer shade with it.
+struct SurfaceAt {
+  std::array<double, 4> weights;
+  glm::dvec2 uv;
+  Vec3 normal, dpdu, dpdv;
+};
+SurfaceAt surface_at(const Mesh& mesh, const Element& element, double u, double v);
+
 }  // namespace bumprad

@@ -83,18 +83,7 @@ class Tracer {
  private:
   SurfacePoint shade(const Hit& hit, const Ray& ray) const {
     const Element& e = mesh_.elements[hit.element];
-    std::array<double, 4> w = corner_weights(e, hit.u, hit.v);
-    glm::dvec2 uv(0);
-    Vec3 n(0), dpdu(0), dpdv(0);
-    for (int k = 0; k < e.vertex_count; ++k) {
-      const Vertex& v = mesh_.vertices[e.v[std::size_t(k)]];
-      double wk = w[std::size_t(k)];
-      uv += wk * v.uv;
-      n += wk * v.normal;
-      dpdu += wk * v.dpdu;
-      dpdv += wk * v.dpdv;
-    }
-    n = glm::normalize(n);
+    const auto [w, uv, n, dpdu, dpdv] = surface_at(mesh_, e, hit.u, hit.v);
     SurfacePoint p{ray.origin + hit.t * ray.direction, n, interpolate(e, vertex_, hit.u, hit.v)};
 
     // Bumps (paper section 2.4): N' from the bump function in the frame of the smooth
