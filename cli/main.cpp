@@ -1,10 +1,12 @@
 // bumprad: the command line. `render` solves a scene and writes its image, `retexture`
-// re-renders a saved solution, `serve` runs the HTTP service, `scenes` lists the built-ins.
+// re-renders a saved solution, `reference` path-traces its ground truth, `serve` runs the
+// HTTP service, `scenes` lists the built-ins.
 #include <cstdio>
 #include <iostream>
 #include <string_view>
 #include <vector>
 
+#include "cli/reference_command.h"
 #include "cli/render_command.h"
 #include "cli/retexture_command.h"
 #include "cli/serve_command.h"
@@ -18,6 +20,7 @@ constexpr const char* kHelp =
     "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
     "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
+    "  bumprad reference SCENE -o REF.exr [--spp N] [--seed S]   path-traced ground truth\n"
     "  bumprad serve [--port P] [--data-dir DIR] ...   the HTTP service (serve --help)\n"
     "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
     "  bumprad --help\n";
@@ -33,6 +36,7 @@ int main(int argc, char** argv) {
   std::string_view command = args.front();
   std::span<const std::string_view> rest(args.data() + 1, args.size() - 1);
   if (command == "render") return bumprad::render_command(rest);
+  if (command == "reference") return bumprad::reference_command(rest);
   if (command == "retexture") return bumprad::retexture_command(rest);
   if (command == "serve") return bumprad::serve_command(rest);
   if (command == "scenes") {
