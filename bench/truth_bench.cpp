@@ -4,7 +4,8 @@
 //   build/bin/bumprad-bench-truth SCENE [--spp 1024] [--reference REF.exr]
 // The reference is rendered with seed 1 at --spp (or read from REF.exr when that file
 // exists, and written there when it does not); the path tracer's own curve uses seed 2, so
-// its noise is independent of the reference's.
+// its noise is independent of the reference's. With BUMPRAD_TRUTH_IMAGES=PREFIX set, both
+// images are also written as PREFIX-bumprad.exr and PREFIX-reference.exr.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -32,6 +33,16 @@ double relative_rms(const Image& a, const Image& r) {
     norm += double(r.rgb[i]) * double(r.rgb[i]);
   }
   return std::sqrt(diff / norm);
+}
+
+// sum(a) / sum(r): a bias of the whole image's brightness shows here.
+double brightness_ratio(const Image& a, const Image& r) {
+  double sa = 0, sr = 0;
+  for (std::size_t i = 0; i < r.rgb.size(); ++i) {
+    sa += a.rgb[i];
+    sr += r.rgb[i];
+  }
+  return sa / sr;
 }
 
 }  // namespace
@@ -73,9 +84,14 @@ int main(int argc, char** argv) {
     Image image = render(scene, solution);
     std::printf(
         "bumprad at its settings: %zu elements, %d shots, unshot %.2f%%: %.2f%% off, "
-        "%.2f s (solve %.2f s)\n",
+        "%.2f s (solve %.2f s); brightness %.4f of the reference's\n",
         solution.stats.elements, solution.stats.shots, 100 * solution.stats.unshot_fraction,
-        100 * relative_rms(image, reference), seconds_since(t), solution.stats.seconds_solve);
+        100 * relative_rms(image, reference), seconds_since(t), solution.stats.seconds_solve,
+        brightness_ratio(image, reference));
+    if (const char* out = std::getenv("BUMPRAD_TRUTH_IMAGES")) {  // for difference images
+      write_image(std::string(out) + "-bumprad.exr", image, 1);
+      write_image(std::string(out) + "-reference.exr", reference, 1);
+    }
 
     std::printf("path tracer (seed 2):\n");
     for (int n = 1; n <= spp / 4; n *= 4) {
