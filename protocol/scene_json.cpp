@@ -85,7 +85,7 @@ ColorTexture parse_texture(const Node& n, const ImageFiles& files) {
 // A whole camera, or with `base` only the keys that change it.
 Camera parse_camera(const Node& n, const Camera* base = nullptr) {
   n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias",
-                "max_depth", "glossy_samples"});
+                "max_depth", "glossy_samples", "shadow_rays"});
   Camera c = base ? *base : Camera{};
   if (!base || n.get("position")) c.position = n["position"].vec3();
   if (!base || n.get("look_at")) c.look_at = n["look_at"].vec3();
@@ -101,6 +101,7 @@ Camera parse_camera(const Node& n, const Camera* base = nullptr) {
   if (auto v = n.get("antialias")) c.antialias = int(v->integer(1, Limits::kMaxAntialias));
   if (auto v = n.get("max_depth")) c.max_depth = int(v->integer(0, 16));
   if (auto v = n.get("glossy_samples")) c.glossy_samples = int(v->integer(1, 256));
+  if (auto v = n.get("shadow_rays")) c.shadow_rays = int(v->integer(1, 256));
   Vec3 view = c.look_at - c.position;
   if (!(glm::length(view) > 0)) n["look_at"].fail("must differ from position");
   if (!(glm::length(c.up) > 0)) n["up"].fail("must not be the zero vector");
@@ -317,7 +318,7 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   Node n(settings, pointer);
   n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
                 "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map",
-                "form_factors", "alias_pixels", "adaptive"});
+                "form_factors", "alias_pixels", "adaptive", "direct_light"});
   if (auto v = n.get("hemicube_resolution")) {
     s.hemicube_resolution = int(v->integer(Limits::kMinHemicube, Limits::kMaxHemicube));
     if (s.hemicube_resolution % 2)
@@ -349,6 +350,9 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
                                         {"gather", TextureMode::Gather},
                                         {"shoot", TextureMode::Shoot}},
                                        "texture mode");
+  if (auto v = n.get("direct_light"))
+    s.direct_light = v->one_of<DirectLight>(
+        {{"exact", DirectLight::Exact}, {"radiosity", DirectLight::Radiosity}}, "direct light");
   if (auto v = n.get("map")) {
     v->allow_only({"tilts_deg", "azimuths", "self_illumination"});
     if (auto t = v->get("tilts_deg")) {

@@ -9,13 +9,14 @@
 
 #include "protocol/scene_json.h"
 #include "solver/atomic_file.h"
+#include "solver/vertex_radiosity.h"
 
 namespace bumprad {
 namespace {
 
 constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
 // Version 2 added the adaptive refinements; version 1 files (none) still load.
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
 
 // FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
@@ -107,6 +108,7 @@ std::string encode_solution(std::string_view scene_json, const Solution& solutio
     w.put(std::uint64_t(split.size()));
     for (std::uint32_t i : split) w.put(i);
   }
+  w.put_rgbs(solution.direct);
   w.put(fnv1a(w.bytes().data(), w.bytes().size()));
   return std::move(w.bytes());
 }
@@ -122,9 +124,9 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
     throw SolutionFileError(name + ": not a bumprad solution file");
   Reader header(std::string_view(bytes).substr(sizeof kMagic), name);
   std::uint32_t version = header.get<std::uint32_t>();
-  if (version != kVersion && version != 1)
+  if (version > kVersion || version < 1)
     throw SolutionFileError(name + ": solution file format version " + std::to_string(version) +
-                            "; this build reads version " + std::to_string(kVersion));
+                            "; this build reads versions 1 to " + std::to_string(kVersion));
   const std::size_t body = bytes.size() - sizeof(std::uint64_t);
   std::uint64_t stored;
   if (bytes.size() < sizeof kMagic + sizeof version + sizeof stored)
@@ -161,6 +163,9 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
       for (std::uint32_t& i : split) i = r.get<std::uint32_t>();
     }
   }
+  // Version 3: the direct part of B (exact direct light). Older files hold all light in
+  // the radiosity and the map, and render so.
+  if (version >= 3) s.direct = r.get_rgbs();
   try {
     s.mesh = refined_mesh(out.scene, s.refinements);
   } catch (const std::invalid_argument& e) {
@@ -169,7 +174,7 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
   s.map = make_map(out.scene, *s.mesh);
   const std::size_t samples = s.map ? s.map->vertex_count() * s.map->directions().size() : 0;
   if (s.radiosity.size() != s.mesh->elements.size() || s.display.size() != s.radiosity.size() ||
-      map.size() != samples)
+      map.size() != samples || (!s.direct.empty() && s.direct.size() != s.radiosity.size()))
     throw SolutionFileError(name + ": its data does not fit its scene's mesh");
   if (s.map) {
     const std::size_t nd = s.map->directions().size();
@@ -179,6 +184,7 @@ LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles
   s.stats.elements = s.mesh->elements.size();
   count_map_stats(out.scene, s);
   s.rays = std::make_unique<RayScene>(*s.mesh);
+  s.open = open_share(*s.mesh, *s.rays);
   return out;
 }
 

@@ -322,8 +322,9 @@ Api::Accepted Api::accept(const Request& request) const {
                    : " to render (" + cost.render_terms + ")") +
             ", over this server's limit of " + describe_duration(limits_.max_job_seconds) +
             " (--max-job-seconds)" +
-            (solve ? "; lower max_shots or hemicube_resolution, or raise element_size"
-                   : "; lower the camera's width, height, antialias or glossy_samples"));
+            (solve
+                 ? "; lower max_shots or hemicube_resolution, or raise element_size"
+                 : "; lower the camera's width, height, antialias, glossy_samples or shadow_rays"));
   }
   return {std::move(job_request), cost};
 }
@@ -371,12 +372,12 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
     RetextureRequest r = parse_retexture_request(request.body(), solved->scene, queue_.files());
     const CostEstimate cost = estimate_render_cost(r.scene);
     if (cost.render_s > limits_.max_retexture_seconds)
-      throw SceneError(
-          "/camera",
-          "this re-texture would take about " + describe_duration(cost.render_s) + " to render (" +
-              cost.render_terms + "), over this server's limit of " +
-              describe_duration(limits_.max_retexture_seconds) +
-              " (--max-retexture-seconds); lower width, height, antialias or glossy_samples");
+      throw SceneError("/camera", "this re-texture would take about " +
+                                      describe_duration(cost.render_s) + " to render (" +
+                                      cost.render_terms + "), over this server's limit of " +
+                                      describe_duration(limits_.max_retexture_seconds) +
+                                      " (--max-retexture-seconds); lower width, height, antialias, "
+                                      "glossy_samples or shadow_rays");
     Image image = render(r.scene, solved->solution, stop.get_token());
     if (stop.stop_requested()) {
       Response res =

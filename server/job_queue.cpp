@@ -298,7 +298,7 @@ void JobQueue::run(const std::shared_ptr<Job>& job) {
           if (progress.step == 0 ||
               progress.seconds_previews < kPreviewShare * seconds_since(started)) {
             auto t = Clock::now();
-            Image preview = render(draft, partial, snap.radiosity, job->stop().get_token());
+            Image preview = render(draft, partial, snap, job->stop().get_token());
             if (job->stop().stop_requested()) return false;
             publish(png_of(preview), snap.shots, snap.unshot_fraction, t);
             drafts_s += seconds_since(t);

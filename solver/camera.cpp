@@ -12,6 +12,7 @@ namespace bumprad {
 Camera draft_camera(Camera camera) {
   camera.antialias = 1;
   camera.glossy_samples = std::min(camera.glossy_samples, 2);
+  camera.shadow_rays = 1;
   return camera;
 }
 

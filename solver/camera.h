@@ -9,8 +9,9 @@ struct Ray {
   Vec3 origin, direction;  // direction is unit length
 };
 
-// The camera of previews and interactive drafts: one ray per pixel and at most two glossy
-// samples. Full-quality previews of paper-room took 7 times as long as its solve.
+// The camera of previews and interactive drafts: one ray per pixel, at most two glossy
+// samples and one shadow ray. Full-quality previews of paper-room took 7 times as long as its
+// solve.
 Camera draft_camera(Camera camera);
 
 class PinholeCamera {

@@ -20,6 +20,9 @@ constexpr double kPerMapSample_s = 1e-7;      // per bumpy vertex and map direct
 // The view pass: 512^2 pixels at 2x2 antialiasing take 0.11 s (1e-7 s a camera ray); a
 // glossy surface sends glossy_samples more rays, a mirror up to max_depth more.
 constexpr double kPerRay_s = 1e-7;
+// Exact direct light, per hit: each shadow ray, and Lambert's form factor per emitter
+// element (cornell: 20 of them and 4 rays took the render from 0.07 to 0.77 s).
+constexpr double kPerEmitterElement_s = 3e-8;
 
 std::string count(double x) {
   char s[32];
@@ -43,12 +46,25 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   }
   const double rays_per_sample =
       1 + (glossy ? c.glossy_samples : 0) + (mirror || glossy ? c.max_depth : 0);
+  double emitters = 0;
+  if (scene.solver.direct_light == DirectLight::Exact) {
+    const double size = default_element_size(scene);
+    for (const Object& o : scene.objects) {
+      const Rgb& e = scene.materials[std::size_t(o.material)].emission;
+      if (e.r + e.g + e.b > 0) emitters += double(estimate_element_count(o, size));
+    }
+  }
+  const double per_hit_s =
+      emitters > 0 ? (1 + c.shadow_rays) * kPerRay_s + emitters * kPerEmitterElement_s : kPerRay_s;
   const double samples = double(c.width) * c.height * c.antialias * c.antialias;
   CostEstimate e;
-  e.render_s = samples * rays_per_sample * kPerRay_s;
-  e.render_terms = count(c.width) + "x" + count(c.height) + " pixels, " +
-                   count(c.antialias * c.antialias) + " rays a pixel, up to " +
-                   count(rays_per_sample) + " rays each";
+  e.render_s = samples * rays_per_sample * per_hit_s;
+  e.render_terms =
+      count(c.width) + "x" + count(c.height) + " pixels, " + count(c.antialias * c.antialias) +
+      " rays a pixel, up to " + count(rays_per_sample) + " rays each" +
+      (emitters > 0 ? ", exact direct light from " + count(emitters) + " emitter elements with " +
+                          count(c.shadow_rays) + " shadow rays"
+                    : std::string());
   return e;
 }
 

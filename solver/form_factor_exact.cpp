@@ -1,5 +1,6 @@
 #include "solver/form_factor_exact.h"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -9,15 +10,24 @@
 namespace bumprad {
 
 double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
-  // Sutherland-Hodgman against the plane normal . (x - point) >= 0.
-  std::vector<Vec3> clipped;
+  // Sutherland-Hodgman against the plane normal . (x - point) >= 0; at most two vertices
+  // per edge come out. Small polygons clip on the stack: the view pass calls this per pixel.
+  std::array<Vec3, 16> stack;
+  std::vector<Vec3> heap;
+  std::span<Vec3> out(stack);
   const std::size_t n = polygon.size();
+  if (2 * n > stack.size()) {
+    heap.resize(2 * n);
+    out = heap;
+  }
+  std::size_t count = 0;
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 a = polygon[i] - point, b = polygon[(i + 1) % n] - point;
     double da = glm::dot(normal, a), db = glm::dot(normal, b);
-    if (da >= 0) clipped.push_back(a);
-    if ((da >= 0) != (db >= 0)) clipped.push_back(a + (b - a) * (da / (da - db)));
+    if (da >= 0) out[count++] = a;
+    if ((da >= 0) != (db >= 0)) out[count++] = a + (b - a) * (da / (da - db));
   }
+  std::span<const Vec3> clipped = out.first(count);
   double sum = 0;
   for (std::size_t i = 0; i < clipped.size(); ++i) {
     const Vec3& a = clipped[i];

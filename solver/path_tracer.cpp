@@ -12,6 +12,8 @@
 #include "solver/bump.h"
 #include "solver/camera.h"
 #include "solver/hemicube.h"
+#include "solver/lights.h"
+#include "solver/random.h"
 #include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
 
@@ -19,72 +21,6 @@ namespace bumprad {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// A counter-based generator (splitmix64) seeded per pixel and sample: the image does not
-// depend on the number of threads or the order rows are taken in.
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  double next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
-
-// The emitting elements, to pick one in proportion to its emitted power (area times
-// luminance of E) and a point on it uniformly.
-class Lights {
- public:
-  explicit Lights(const Mesh& mesh, const std::vector<Material>& materials) : mesh_(mesh) {
-    double total = 0;
-    for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
-      const Element& e = mesh.elements[i];
-      const Rgb& emission = materials[std::size_t(e.material)].emission;
-      double power = e.area * (emission.r + emission.g + emission.b);
-      if (!(power > 0)) continue;
-      total += power;
-      elements_.push_back(i);
-      cumulative_.push_back(total);
-    }
-    for (double& c : cumulative_) c /= total;
-  }
-  bool empty() const { return elements_.empty(); }
-
-  struct Sample {
-    std::uint32_t element;
-    Vec3 point;
-    double pdf_area;  // per unit area, over all lights
-  };
-  Sample sample(Random& random) const {
-    const double pick = random.next();
-    const std::size_t k = std::size_t(
-        std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) - cumulative_.begin());
-    const std::size_t i = std::min(k, elements_.size() - 1);
-    const Element& e = mesh_.elements[elements_[i]];
-    const double chosen = cumulative_[i] - (i > 0 ? cumulative_[i - 1] : 0);
-    auto corner = [&](int c) { return mesh_.vertices[e.v[std::size_t(c)]].position; };
-    // A quad is two triangles (planar and convex); each is picked by its area.
-    Vec3 a = corner(0), b = corner(1), c = corner(2);
-    if (e.vertex_count == 4) {
-      const double first =
-          0.5 * glm::length(glm::cross(corner(1) - corner(0), corner(2) - corner(0)));
-      if (random.next() * e.area >= first) b = corner(2), c = corner(3);
-    }
-    double s = std::sqrt(random.next()), t = random.next();
-    Vec3 point = (1 - s) * a + s * (1 - t) * b + s * t * c;
-    return {elements_[i], point, chosen / e.area};
-  }
-
- private:
-  const Mesh& mesh_;
-  std::vector<std::uint32_t> elements_;
-  std::vector<double> cumulative_;
-};
 
 class PathTracer {
  public:
@@ -173,18 +109,6 @@ class PathTracer {
       if (glm::dot(out, normal) > 0) return true;
     }
     return false;
-  }
-
-  // Embree intersects in single precision: a ray must leave its surface by some ulps of
-  // the scene's coordinates, or it meets the surface it left (from behind, absorbed: at
-  // 1e-7 of the diagonal the Cornell box came out 1.3 % too dark). 4e-6 of the largest
-  // coordinate is about 64 ulps, and 12 micrometres in wrinkled-box, whose rug lies 1 mm
-  // above its floor.
-  static double ray_epsilon(const Mesh& mesh) {
-    double extent = 0;
-    for (int k = 0; k < 3; ++k)
-      extent = std::max({extent, std::abs(mesh.bounds_min[k]), std::abs(mesh.bounds_max[k])});
-    return 4e-6 * extent;
   }
 
   const Scene& scene_;

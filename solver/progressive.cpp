@@ -42,23 +42,6 @@ std::span<const Vec3> corners(const Mesh& mesh, const Element& e, std::array<Vec
   return {storage.data(), std::size_t(e.vertex_count)};
 }
 
-// Four points per element spread over its area, each standing for a quarter of it: the
-// centres of its 2 x 2 bilinear sub-quads, or of a triangle's four midpoint sub-triangles
-// (barycentric (2/3, 1/6, 1/6) and its turns, and (1/3, 1/3, 1/3)).
-void add_element_samples(const Mesh& mesh, const Element& e, std::vector<AreaSample>& out) {
-  static constexpr std::array<glm::dvec2, 4> kQuad = {
-      {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
-  static constexpr std::array<glm::dvec2, 4> kTriangle = {
-      {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 3, 1.0 / 3}}};
-  for (const glm::dvec2& uv : e.vertex_count == 4 ? kQuad : kTriangle) {
-    std::array<double, 4> w = corner_weights(e, uv.x, uv.y);
-    Vec3 point(0);
-    for (int k = 0; k < e.vertex_count; ++k)
-      point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
-    out.push_back({point, e.area / 4});
-  }
-}
-
 }  // namespace
 
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
@@ -76,13 +59,16 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       incident_(mesh.elements.size(), Rgb(0)),
       radiosity_(mesh.elements.size()),
       unshot_(mesh.elements.size()),
+      unshot_emission_(mesh.elements.size()),
+      direct_(mesh.elements.size(), Rgb(0)),
       patch_unshot_power_(mesh.patches.size(), 0.0),
       rng_(settings.seed) {
   samples_.resize(mesh.patches.size());
   for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
     const Patch& patch = mesh.patches[p];
     for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-      add_element_samples(mesh, mesh.elements[e], samples_[p]);
+      for (const Vec3& point : quarter_points(mesh, mesh.elements[e]))
+        samples_[p].push_back({point, mesh.elements[e].area / 4});
   }
   if (settings.form_factors == FormFactorMethod::RayCast && !rays)
     throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
@@ -93,7 +79,7 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
     reflectance_[i] = m.reflectance;
     specular_[i] = m.specular;
     shininess_[i] = m.shininess;
-    radiosity_[i] = unshot_[i] = m.emission;
+    radiosity_[i] = unshot_[i] = unshot_emission_[i] = m.emission;
     emitted_ += m.emission * e.area;
     patch_unshot_power_[e.patch] += channel_sum(m.emission) * e.area;
     weighted_rho += m.reflectance * e.area;
@@ -128,11 +114,12 @@ bool ProgressiveSolver::shoot() {
 
   // The patch shoots the area-weighted mean of its elements' unshot radiosity.
   // Its specular queues shoot too, merged by source.
-  Rgb shot_power(0);
+  Rgb shot_power(0), emission_power(0);
   std::vector<std::pair<std::uint32_t, Rgb>> sources;
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
     shot_power += unshot_[e] * mesh_.elements[e].area;
-    unshot_[e] = Rgb(0);
+    emission_power += unshot_emission_[e] * mesh_.elements[e].area;
+    unshot_[e] = unshot_emission_[e] = Rgb(0);
     for (const auto& [source, power] : queue_[e]) add_by_source(sources, source, power);
     queue_[e].clear();
   }
@@ -153,6 +140,8 @@ bool ProgressiveSolver::shoot() {
   double seen = 0;
   for (const VisibleElement& v : visible_) {
     receive(v.element, shot_power * v.form_factor, pi);
+    direct_[v.element] +=
+        reflectance_[v.element] * emission_power * (v.form_factor / mesh_.elements[v.element].area);
     seen += v.form_factor;
   }
   escaped_ += shot_power * std::max(0.0, 1.0 - seen);
@@ -167,7 +156,10 @@ bool ProgressiveSolver::shoot() {
   double texture_s = 0;
   if (map_) {
     auto t1 = Clock::now();
-    map_->shoot(hemicube_, frame, origin, shot_power, visible_);
+    // With exact direct light the map holds the indirect light only.
+    const bool exact = settings_.direct_light == DirectLight::Exact;
+    map_->shoot(hemicube_, frame, origin, exact ? shot_power - emission_power : shot_power,
+                visible_);
     texture_s = seconds_since(t1);
   }
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
@@ -398,7 +390,7 @@ std::vector<Rgb> ProgressiveSolver::display_radiosity() const {
 }
 
 Snapshot ProgressiveSolver::snapshot() const {
-  return {shots_, unshot_fraction(), done(), display_radiosity()};
+  return {shots_, unshot_fraction(), done(), display_radiosity(), direct_};
 }
 
 EnergyLedger ProgressiveSolver::ledger() const {

@@ -46,6 +46,7 @@ struct Snapshot {
   double unshot_fraction = 0;
   bool final = false;
   std::vector<Rgb> radiosity;  // per element, with the ambient term for display
+  std::vector<Rgb> direct;     // per element, the part of it straight from the emitters
 };
 
 class ProgressiveSolver {
@@ -70,6 +71,9 @@ class ProgressiveSolver {
   int shots() const { return shots_; }
   double unshot_fraction() const;
   const std::vector<Rgb>& radiosity() const { return radiosity_; }
+  // The part of B that came straight from the emitters' emission (rho E F, no bounce in
+  // between): the view pass replaces it with exact direct light (DirectLight::Exact).
+  const std::vector<Rgb>& direct() const { return direct_; }
   // B_i + rho_i * ambient: Cohen 1988's estimate of the light not yet shot (diffuse and
   // queued specular), so early previews are not dark. It tends to zero as the solve
   // converges.
@@ -113,6 +117,8 @@ class ProgressiveSolver {
   std::vector<Rgb> incident_;               // per element, scratch for shoot_specular
   std::vector<Rgb> radiosity_;              // B, per element
   std::vector<Rgb> unshot_;                 // dB, per element
+  std::vector<Rgb> unshot_emission_;        // the part of dB that is the element's own E
+  std::vector<Rgb> direct_;                 // per element, see direct()
   std::vector<double> patch_unshot_power_;  // A * (dB.r + dB.g + dB.b), per patch
   Rgb emitted_{0}, absorbed_{0}, escaped_{0};
   Rgb ambient_factor_{0};  // 1 / (1 - area-weighted mean reflectance)

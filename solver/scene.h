@@ -40,6 +40,7 @@ struct Camera {
   int antialias = 1;       // n: an n x n stratified grid of rays per pixel
   int max_depth = 5;       // specular bounces followed from the eye
   int glossy_samples = 8;  // lobe samples at the first glossy surface a ray meets
+  int shadow_rays = 4;     // per ray hit, toward the emitters (DirectLight::Exact)
 };
 
 // How an image or pattern repeats outside [0,1]^2.
@@ -140,6 +141,12 @@ enum class TextureMode { None, Gather, Shoot };
 // or rays from each receiver to points on the shooter (Wallace, Elmquist & Haines 1989).
 enum class FormFactorMethod { Hemicube, RayCast };
 
+// Where an image's direct light comes from. Exact: per pixel, from the emitters (Lambert's
+// closed form times the share shadow rays see, with the perturbed normal N'), while the
+// radiosity solution and the perturbed map carry only the indirect light. Radiosity: all
+// light from the solution and the map, as Chen & Wu render it.
+enum class DirectLight { Exact, Radiosity };
+
 // The sampled perturbed normals: N plus `azimuths` directions on each tilt ring.
 struct MapSettings {
   std::vector<double> tilts_deg{22.5, 45};
@@ -166,6 +173,7 @@ struct SolverSettings {
   double adaptive_threshold = 0.1;
   std::uint32_t seed = 1;
   TextureMode texture = TextureMode::Shoot;
+  DirectLight direct_light = DirectLight::Exact;
   MapSettings map;
 };
 

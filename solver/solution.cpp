@@ -1,7 +1,9 @@
 #include "solver/solution.h"
 
+#include "solver/lights.h"
 #include "solver/stopwatch.h"
 #include "solver/subdivision.h"
+#include "solver/vertex_radiosity.h"
 #include "solver/view_pass.h"
 
 namespace bumprad {
@@ -17,6 +19,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
 
   out.map = make_map(scene, mesh);
   out.rays = std::make_unique<RayScene>(mesh);
+  out.open = open_share(mesh, *out.rays);
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get());
@@ -35,6 +38,8 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
       stop);
   out.radiosity = solver.radiosity();
   out.display = solver.display_radiosity();
+  const bool exact = scene.solver.direct_light == DirectLight::Exact;
+  if (exact) out.direct = solver.direct();
   out.stats.shots = solver.shots();
   out.stats.unshot_fraction = solver.unshot_fraction();
   if (stop.stop_requested()) return out;
@@ -44,7 +49,13 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
     out.map->finish_shooting(scene.materials);
   } else if (mode == TextureMode::Gather) {
     Hemicube hemicube(mesh, scene.solver.hemicube_resolution);
-    out.map->gather(scene.materials, out.display, hemicube, stop);
+    // With exact direct light the map gathers the indirect light only: what the vertex
+    // sees less the emitters' own emission.
+    std::vector<Rgb> seen = out.display;
+    if (exact)
+      for (std::size_t i = 0; i < seen.size(); ++i)
+        seen[i] -= scene.materials[std::size_t(mesh.elements[i].material)].emission;
+    out.map->gather(scene.materials, seen, hemicube, stop);
     if (stop.stop_requested()) return out;
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;
@@ -116,18 +127,38 @@ void count_map_stats(const Scene& scene, Solution& solution) {
   solution.stats.directions = solution.map->directions().size();
 }
 
-Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {
-  return render(scene, solution, solution.display, stop);
-}
+namespace {
 
-Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
-             std::stop_token stop) {
+// `radiosity` per element as displayed; `direct` its part straight from the emitters, or
+// empty (then all light comes from the solution).
+Image render_solution(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
+                      std::span<const Rgb> direct, std::stop_token stop) {
   SurfaceDetail detail;
   detail.map = solution.map.get();
   detail.bumps = scene.bumps;
   for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
   detail.materials = scene.materials;
-  return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail, stop);
+  detail.open = solution.open;
+  if (direct.empty())
+    return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail, stop);
+  std::vector<Rgb> indirect(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
+  const Lights lights(*solution.mesh, scene.materials);
+  detail.lights = &lights;
+  return render_view(*solution.mesh, *solution.rays, scene.camera, indirect, detail, stop);
+}
+
+}  // namespace
+
+Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {
+  return render_solution(scene, solution, solution.display, solution.direct, stop);
+}
+
+Image render(const Scene& scene, const Solution& solution, const Snapshot& step,
+             std::stop_token stop) {
+  const bool exact = scene.solver.direct_light == DirectLight::Exact;
+  return render_solution(scene, solution, step.radiosity,
+                         exact ? std::span<const Rgb>(step.direct) : std::span<const Rgb>(), stop);
 }
 
 }  // namespace bumprad

@@ -18,10 +18,15 @@ namespace bumprad {
 
 struct Solution {
   std::unique_ptr<Mesh> mesh;
-  std::vector<Rgb> radiosity;         // solved B per element
-  std::vector<Rgb> display;           // B plus the ambient term, what images show
+  std::vector<Rgb> radiosity;  // solved B per element
+  std::vector<Rgb> display;    // B plus the ambient term, what images show
+  // With DirectLight::Exact, the part of B straight from the emitters, per element; the
+  // view pass computes it exactly instead, and the map holds the indirect light only.
+  // Empty with DirectLight::Radiosity: the solution and the map hold all of it.
+  std::vector<Rgb> direct;
   std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
   std::unique_ptr<RayScene> rays;
+  std::vector<double> open;  // per element, open_share(): how vertices weigh it
   SolveStats stats;
   // Adaptive subdivision: per level, the elements split (indices into that level's mesh).
   // build_mesh then these splits give the mesh back (refined_mesh).
@@ -29,8 +34,8 @@ struct Solution {
 };
 
 // Called after every refinement step with the snapshot and the solution as it stands: its
-// mesh, rays and (when shooting) map are ready, so render(scene, solution,
-// snapshot.radiosity) is a preview with bumps from the first step on. Returning false stops
+// mesh, rays and (when shooting) map are ready, so render(scene, solution, snapshot) is a
+// preview with bumps from the first step on. Returning false stops
 // the solve; the solution is then what was reached.
 using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 
@@ -52,10 +57,11 @@ void count_map_stats(const Scene& scene, Solution& solution);
 
 // The view pass for `scene`'s camera and bump functions over a solution of the same
 // geometry. Objects without a bump function, or a solution without a map, render smooth.
-// `stop` ends it within a row; the image is then unfinished.
+// Direct light is exact per pixel where the solution has `direct`. `stop` ends it within a
+// row; the image is then unfinished.
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
-// The same for one refinement step's radiosity (previews).
-Image render(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
+// The same for one refinement step (previews).
+Image render(const Scene& scene, const Solution& solution, const Snapshot& step,
              std::stop_token stop = {});
 
 }  // namespace bumprad

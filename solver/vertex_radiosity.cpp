@@ -1,22 +1,79 @@
 #include "solver/vertex_radiosity.h"
 
+#include <cmath>
+#include <numbers>
+
 #include <glm/geometric.hpp>
+
+#include "solver/hemicube.h"
+#include "solver/lights.h"
 
 namespace bumprad {
 
-std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity) {
-  std::vector<Rgb> sum(mesh.vertices.size(), Rgb(0));
-  std::vector<double> area(mesh.vertices.size(), 0.0);
+std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity,
+                                  std::span<const double> open) {
+  // Open area first; a vertex among buried elements only takes their plain mean.
+  std::vector<Rgb> sum(mesh.vertices.size(), Rgb(0)), buried(mesh.vertices.size(), Rgb(0));
+  std::vector<double> area(mesh.vertices.size(), 0.0), buried_area(mesh.vertices.size(), 0.0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
+    const double w = open.empty() ? e.area : e.area * open[i];
     for (int k = 0; k < e.vertex_count; ++k) {
-      sum[e.v[k]] += element_radiosity[i] * e.area;
-      area[e.v[k]] += e.area;
+      sum[e.v[k]] += element_radiosity[i] * w;
+      area[e.v[k]] += w;
+      buried[e.v[k]] += element_radiosity[i] * e.area;
+      buried_area[e.v[k]] += e.area;
     }
   }
   for (std::size_t v = 0; v < sum.size(); ++v)
-    if (area[v] > 0) sum[v] /= area[v];
+    if (area[v] > 0)
+      sum[v] /= area[v];
+    else if (buried_area[v] > 0)
+      sum[v] = buried[v] / buried_area[v];
   return sum;
+}
+
+std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
+  const double epsilon = ray_epsilon(mesh);
+  auto is_open = [&](const Element& e, const Vec3& point) {
+    const Frame frame = frame_about(e.normal);
+    const Vec3 from = point + e.normal * epsilon;
+    for (int d = 0; d < 5; ++d) {
+      const double phi = std::numbers::pi / 2 * d;
+      const Vec3 local =
+          d == 0 ? Vec3(0, 0, 1) : Vec3(0.866 * std::cos(phi), 0.866 * std::sin(phi), 0.5);
+      auto hit = rays.intersect({from, frame.to_world(local)});
+      if (!hit || hit->front) return true;
+    }
+    return false;
+  };
+  std::vector<double> out(mesh.elements.size(), 1.0);
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    int open = 0;
+    for (const Vec3& point : quarter_points(mesh, e)) open += is_open(e, point);
+    if (open == 0 || open == 4) {
+      out[i] = open / 4.0;
+      continue;
+    }
+    // Partly buried: the share divides the element's radiosity (view_pass.cpp), so measure
+    // it on a finer 8 x 8 grid (triangles: the points that fall inside).
+    int inside = 0;
+    open = 0;
+    for (int a = 0; a < 8; ++a)
+      for (int b = 0; b < 8; ++b) {
+        const double u = (a + 0.5) / 8, v = (b + 0.5) / 8;
+        if (e.vertex_count == 3 && u + v > 1) continue;
+        std::array<double, 4> w = corner_weights(e, u, v);
+        Vec3 point(0);
+        for (int k = 0; k < e.vertex_count; ++k)
+          point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+        ++inside;
+        open += is_open(e, point);
+      }
+    out[i] = std::max(1, open) / double(inside);
+  }
+  return out;
 }
 
 std::array<double, 4> corner_weights(const Element& e, double u, double v) {
@@ -29,6 +86,23 @@ Rgb interpolate(const Element& e, std::span<const Rgb> values, double u, double 
   Rgb sum(0);
   for (int k = 0; k < e.vertex_count; ++k) sum += w[std::size_t(k)] * values[e.v[std::size_t(k)]];
   return sum;
+}
+
+std::array<Vec3, 4> quarter_points(const Mesh& mesh, const Element& e) {
+  // Sub-triangle centres: barycentric (2/3, 1/6, 1/6), its turns, and (1/3, 1/3, 1/3).
+  static constexpr std::array<glm::dvec2, 4> kQuad = {
+      {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
+  static constexpr std::array<glm::dvec2, 4> kTriangle = {
+      {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 3, 1.0 / 3}}};
+  std::array<Vec3, 4> out;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const glm::dvec2& uv = (e.vertex_count == 4 ? kQuad : kTriangle)[i];
+    std::array<double, 4> w = corner_weights(e, uv.x, uv.y);
+    out[i] = Vec3(0);
+    for (int k = 0; k < e.vertex_count; ++k)
+      out[i] += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+  }
+  return out;
 }
 
 SurfaceAt surface_at(const Mesh& mesh, const Element& e, double u, double v) {

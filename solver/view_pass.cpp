@@ -11,6 +11,7 @@
 
 #include "solver/bump.h"
 #include "solver/camera.h"
+#include "solver/random.h"
 #include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
 
@@ -24,12 +25,19 @@ struct SurfacePoint {
   Rgb radiosity;
 };
 
-// Deterministic per-ray random numbers (splitmix64): images do not depend on threads.
-double random01(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+// The vertices' radiosity. An element partly buried (open_share() < 1) received its light
+// on its open part alone (a shooter sees only that part), spread over its whole area: over
+// the open part its reflected radiosity is (B - E) / open.
+std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
+                               const SurfaceDetail& detail) {
+  if (detail.open.empty() || detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
+  std::vector<Rgb> open(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < open.size(); ++i)
+    if (detail.open[i] > 0 && detail.open[i] < 1) {
+      const Rgb& e = detail.materials[std::size_t(mesh.elements[i].material)].emission;
+      open[i] = e + (open[i] - e) / detail.open[i];
+    }
+  return vertex_radiosity(mesh, open, detail.open);
 }
 
 class Tracer {
@@ -40,7 +48,7 @@ class Tracer {
         rays_(rays),
         camera_(camera),
         detail_(detail),
-        vertex_(vertex_radiosity(mesh, element_radiosity)),
+        vertex_(vertex_values(mesh, element_radiosity, detail)),
         texture_scale_(detail.materials.size(), Rgb(0)) {
     for (std::size_t m = 0; m < detail.materials.size(); ++m)
       if (const auto& t = detail.materials[m].texture) {
@@ -52,11 +60,11 @@ class Tracer {
   // What the ray sees, in radiosity units (pi times radiance): the diffuse radiosity, plus
   // k_s times what the surface reflects (second pass): a mirror follows one ray, a glossy
   // surface samples its Phong lobe at the first glossy bounce (one ray after that).
-  Rgb trace(const Ray& ray, int depth, std::uint64_t& rng, bool sampled_lobe = false) const {
+  Rgb trace(const Ray& ray, int depth, Random& rng, bool sampled_lobe = false) const {
     auto hit = rays_.intersect(ray);
     if (!hit || !hit->front) return Rgb(0);
     const Element& e = mesh_.elements[hit->element];
-    SurfacePoint p = shade(*hit, ray);
+    SurfacePoint p = shade(*hit, ray, rng);
     const Material* m =
         detail_.materials.empty() ? nullptr : &detail_.materials[std::size_t(e.material)];
     if (!m || m->specular <= 0 || depth >= camera_.max_depth) return p.radiosity;
@@ -69,9 +77,9 @@ class Tracer {
     Rgb sum(0);
     int valid = 0;
     for (int s = 0; s < samples; ++s) {
-      double cos_a = std::pow(random01(rng), 1 / (m->shininess + 1));
+      double cos_a = std::pow(rng.next(), 1 / (m->shininess + 1));
       double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-      double phi = 2 * std::numbers::pi * random01(rng);
+      double phi = 2 * std::numbers::pi * rng.next();
       Vec3 d = lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a));
       if (glm::dot(d, p.normal) <= 0) continue;  // below the surface: renormalised away
       sum += trace({from, d}, depth + 1, rng, true);
@@ -81,7 +89,7 @@ class Tracer {
   }
 
  private:
-  SurfacePoint shade(const Hit& hit, const Ray& ray) const {
+  SurfacePoint shade(const Hit& hit, const Ray& ray, Random& rng) const {
     const Element& e = mesh_.elements[hit.element];
     const auto [w, uv, n, dpdu, dpdv] = surface_at(mesh_, e, hit.u, hit.v);
     SurfacePoint p{ray.origin + hit.t * ray.direction, n, interpolate(e, vertex_, hit.u, hit.v)};
@@ -104,6 +112,13 @@ class Tracer {
       }
       p.radiosity = glm::max(b, Rgb(0));
     }
+
+    // Exact direct light (the radiosity holds the indirect light only): rho E F V per
+    // emitter, with the perturbed normal.
+    if (detail_.lights)
+      p.radiosity +=
+          detail_.materials[std::size_t(e.material)].reflectance *
+          detail_.lights->direct(p.position, p.normal, e.normal, rays_, camera_.shadow_rays, rng);
 
     // Colour texture: B = E + (B - E) rho(u,v) / mean.
     if (!detail_.materials.empty())
@@ -135,7 +150,7 @@ Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
   auto work = [&] {
     for (int y; !stop.stop_requested() && (y = next_row++) < camera.height;) {
       for (int x = 0; x < camera.width; ++x) {
-        std::uint64_t rng = (std::uint64_t(y) << 32) | std::uint32_t(x);
+        Random rng((std::uint64_t(y) << 32) | std::uint32_t(x));
         Rgb sum(0);
         for (int sy = 0; sy < n; ++sy)
           for (int sx = 0; sx < n; ++sx)

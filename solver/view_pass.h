@@ -6,6 +6,7 @@
 #include <stop_token>
 
 #include "solver/image.h"
+#include "solver/lights.h"
 #include "solver/mesh.h"
 #include "solver/perturbed_map.h"
 #include "solver/ray_scene.h"
@@ -20,6 +21,9 @@ struct SurfaceDetail {
   std::span<const BumpFunction> bumps;
   std::vector<int> object_bump;         // per object: index into bumps, or -1
   std::span<const Material> materials;  // for colour textures; empty: none
+  // Exact direct light per hit (needs materials); the radiosity is then the indirect part.
+  const Lights* lights = nullptr;
+  std::span<const double> open;  // per element, open_share(); empty: all open
 };
 
 // `element_radiosity` is per element (e.g. a Snapshot's). Back faces and misses are black.

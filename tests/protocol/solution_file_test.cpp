@@ -60,6 +60,8 @@ TEST_F(SolutionFile, RoundTripIsBitExact) {
   EXPECT_EQ(back.scene_json, text_);
   EXPECT_EQ(back.solution.radiosity, solution_.radiosity);
   EXPECT_EQ(back.solution.display, solution_.display);
+  EXPECT_FALSE(solution_.direct.empty());  // exact direct light, the default
+  EXPECT_EQ(back.solution.direct, solution_.direct);
   ASSERT_TRUE(back.solution.map);
   ASSERT_EQ(back.solution.map->vertex_count(), solution_.map->vertex_count());
   for (std::uint32_t s = 0; s < solution_.map->vertex_count(); ++s) {
@@ -103,7 +105,7 @@ TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   std::string version = good;
   version[8] = 7;
   write(bad, version);
-  expect_refused(bad, "solution file format version 7; this build reads version 2");
+  expect_refused(bad, "solution file format version 7; this build reads versions 1 to 3");
   write(bad, "\x89PNG\r\n\x1a\n and then some");
   expect_refused(bad, "not a bumprad solution file");
   expect_refused(dir_ / "missing.bumprad", "cannot open");

@@ -124,6 +124,7 @@ TEST(PerturbedMap, ShootMatchesLambertAtEverySampledTilt) {
   g.scene.solver.max_shots = 256;
   g.scene.solver.unshot_fraction = 0;
   g.scene.solver.patch_elements = 1;
+  g.scene.solver.direct_light = DirectLight::Radiosity;  // the map holds the direct light
   MapSettings settings;
   settings.tilts_deg = {20, 40, 60};
   PerturbedMap map(g.mesh, {true, false}, settings);
@@ -163,6 +164,7 @@ TEST(PerturbedMap, GrazingLightStaysBoundedAndClose) {
   scene.solver.max_shots = 64;
   scene.solver.unshot_fraction = 0;
   scene.solver.patch_elements = 1;
+  scene.solver.direct_light = DirectLight::Radiosity;  // the map holds the direct light
   Mesh mesh = build_mesh(scene);
   ASSERT_LT(mesh.elements[1].normal.x, -0.99);
   PerturbedMap map(mesh, {true, false}, MapSettings{});

@@ -78,8 +78,8 @@ TEST(Solution, PreviewsShowBumpsFromTheFirstStepWhenShooting) {
   solve(s, [&](const Snapshot& snap, const Solution& partial) {
     if (++steps == 1) {
       EXPECT_EQ(snap.shots, 5);
-      Image bumpy = render(s, partial, snap.radiosity);
-      EXPECT_GT(max_difference(bumpy, render(flat, partial, snap.radiosity)), 0.01);
+      Image bumpy = render(s, partial, snap);
+      EXPECT_GT(max_difference(bumpy, render(flat, partial, snap)), 0.01);
     }
     return true;
   });
