@@ -392,6 +392,23 @@ TEST(SceneJson, TextureModeAndMapSettings) {
   expect_rejected(d, "/solver/map/azimuths", "must be between 3 and 64");
 }
 
+TEST(SceneJson, DirectLightAndShadowRays) {
+  json d = minimal();
+  Scene s = parse_scene(d);
+  EXPECT_EQ(s.solver.direct_light, DirectLight::Exact);
+  EXPECT_EQ(s.camera.shadow_rays, 4);
+  d["solver"] = {{"direct_light", "radiosity"}};
+  d["camera"]["shadow_rays"] = 16;
+  s = parse_scene(d);
+  EXPECT_EQ(s.solver.direct_light, DirectLight::Radiosity);
+  EXPECT_EQ(s.camera.shadow_rays, 16);
+  d["solver"] = {{"direct_light", "traced"}};
+  expect_rejected(d, "/solver/direct_light", "expected exact or radiosity");
+  d["solver"] = json::object();
+  d["camera"]["shadow_rays"] = 0;
+  expect_rejected(d, "/camera/shadow_rays", "");
+}
+
 TEST(SceneJson, FormFactorMethodAndAdaptiveSubdivision) {
   json d = minimal();
   d["solver"] = {{"form_factors", "ray_cast"},

@@ -11,6 +11,7 @@
 
 #include "solver/form_factor_exact.h"
 #include "solver/progressive.h"
+#include "solver/solution.h"
 #include "tests/test_scenes.h"
 
 namespace bumprad {
@@ -145,6 +146,32 @@ TEST(PerturbedMap, ShootMatchesLambertAtEverySampledTilt) {
   for (double w : worst) EXPECT_LT(w, 5e-4);  // measured <= 1.6e-4 at every tilt
   // The unperturbed sample is the receiver's own radiosity.
   EXPECT_NEAR(map.samples(0)[0].g, solver.radiosity()[0].g, 1e-12);
+}
+
+// With exact direct light the view pass lights bumps from the emitters itself; the map
+// holds the indirect light only. Here the lamp is black and there is nothing else, so the
+// receiver's only light is direct: the map is zero, by shooting and by gathering, while the
+// paper's map (direct_light radiosity) holds that light.
+TEST(PerturbedMap, WithExactDirectLightTheMapHoldsOnlyIndirectLight) {
+  for (TextureMode mode : {TextureMode::Shoot, TextureMode::Gather}) {
+    LightAndReceiver g(4, 0.1);
+    g.scene.bumps.push_back(BumpFunction{});
+    g.scene.objects[0].bump = 0;
+    g.scene.solver.texture = mode;
+    g.scene.solver.max_shots = 64;
+    g.scene.solver.unshot_fraction = 0;
+    double exact = 0, paper = 0;
+    for (DirectLight direct : {DirectLight::Exact, DirectLight::Radiosity}) {
+      g.scene.solver.direct_light = direct;
+      const Solution s = solve(g.scene);
+      ASSERT_TRUE(s.map);
+      double& sum = direct == DirectLight::Exact ? exact : paper;
+      for (std::uint32_t slot = 0; slot < s.map->vertex_count(); ++slot)
+        for (const Rgb& b : s.map->samples(slot)) sum += std::abs(b.g);
+    }
+    EXPECT_EQ(exact, 0) << "mode " << int(mode);
+    EXPECT_GT(paper, 0) << "mode " << int(mode);
+  }
 }
 
 // Where shooting's cos'/cos ratio is unstable: the light sits just above the receiver's

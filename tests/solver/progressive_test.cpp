@@ -151,6 +151,29 @@ TEST(Progressive, EnergyBalancesAfterEveryShotInAnOpenScene) {
   EXPECT_GT(l.absorbed.g, 0.01 * l.emitted.g);
 }
 
+// The direct part of B is the first bounce of emission: in the furnace every element sees
+// emitters all round, so it is rho E F summed to one, and over the box exactly rho times the
+// emitted power the hemi-cubes saw (a closed box: all of it). The rest of B is E plus the
+// indirect light, never negative.
+TEST(Progressive, DirectPartIsTheFirstBounceOfEmission) {
+  const double rho = 0.5, emission = 1;
+  Scene s = furnace(rho, emission);
+  Mesh mesh = build_mesh(s);
+  ProgressiveSolver solver(mesh, s.materials, s.solver);
+  solver.run();
+  double direct_power = 0, area = 0, worst = 0;
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const double a = mesh.elements[i].area, d = solver.direct()[i].g;
+    direct_power += d * a;
+    area += a;
+    worst = std::max(worst, std::abs(d / (rho * emission) - 1));
+    EXPECT_GE(solver.radiosity()[i].g - emission - d, -1e-12) << i;
+  }
+  EXPECT_NEAR(direct_power / (rho * emission * area), 1, 1e-9);
+  // Per element the hemi-cube's F sums to one up to the near-field redistribution.
+  EXPECT_LT(worst, 0.05);
+}
+
 TEST(Progressive, AmbientTermLightsEarlyPreviewsAndVanishesAtConvergence) {
   Scene s = furnace(0.5, 1.0);
   Mesh mesh = build_mesh(s);

@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "solver/bump.h"
+#include "solver/form_factor_exact.h"
+#include "solver/solution.h"
 #include "solver/vertex_radiosity.h"
 #include "tests/test_scenes.h"
 
@@ -155,6 +158,64 @@ TEST(ViewPass, AntialiasingAveragesSubpixels) {
   bool partial = false;
   for (float v : img.rgb) partial = partial || (v > 0.05f && v < 0.95f);
   EXPECT_TRUE(partial);
+}
+
+}  // namespace
+}  // namespace bumprad
+
+namespace bumprad {
+namespace {
+
+// Exact direct light shades each pixel with the bump's own perturbed normal N': a wrinkled
+// floor lit at grazing incidence (a wall lamp beside it, 60-80 degrees off the floor's
+// normal) shows rho E F(x, N') / pi at every pixel, Lambert's closed form, so the bumps'
+// contrast is exact however far the normals tilt. The lamp is black and nothing else is
+// there: the floor has no indirect light.
+TEST(ViewPass, ExactDirectLightShadesBumpsWithTheirPerturbedNormals) {
+  Scene s = test::scene_of(
+      {test::quad({Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)}, 4, 4),
+       test::quad(
+           {Vec3(1.5, -0.3, 0.1), Vec3(1.5, -0.3, 0.5), Vec3(1.5, 0.3, 0.5), Vec3(1.5, 0.3, 0.1)},
+           2, 2, 1)},
+      0.5);
+  Material lamp;
+  lamp.reflectance = Rgb(0);
+  lamp.emission = Rgb(4);
+  s.materials.push_back(lamp);
+  BumpFunction wrinkles;
+  wrinkles.amplitude = 0.02;
+  wrinkles.scale = glm::dvec2(6, 6);
+  s.bumps = {wrinkles};
+  s.objects[0].bump = 0;
+  s.solver.unshot_fraction = 0;
+  s.solver.max_shots = 64;
+  s.camera.position = Vec3(0, 0, 3);
+  s.camera.look_at = Vec3(0);
+  s.camera.fov_y_deg = 30;
+  s.camera.width = s.camera.height = 24;
+  const std::array<Vec3, 4> lamp_corners = {Vec3(1.5, -0.3, 0.1), Vec3(1.5, -0.3, 0.5),
+                                            Vec3(1.5, 0.3, 0.5), Vec3(1.5, 0.3, 0.1)};
+
+  const Solution solution = solve(s);
+  const Image image = render(s, solution);
+  const PinholeCamera pinhole(s.camera);
+  double lowest = 1e30, highest = 0;  // some wrinkles face away from the lamp: F(x, N') = 0
+  for (int y = 0; y < s.camera.height; ++y)
+    for (int x = 0; x < s.camera.width; ++x) {
+      auto hit = solution.rays->intersect(pinhole.ray(x + 0.5, y + 0.5));
+      ASSERT_TRUE(hit);
+      const Element& e = solution.mesh->elements[hit->element];
+      const SurfaceAt at = surface_at(*solution.mesh, e, hit->u, hit->v);
+      const BumpSample f = evaluate_bump(wrinkles, at.uv);
+      const Vec3 n = perturb_normal(at.normal, at.dpdu, at.dpdv, f.du, f.dv);
+      const Ray ray = pinhole.ray(x + 0.5, y + 0.5);
+      const Vec3 point = ray.origin + hit->t * ray.direction;
+      const double expected = 0.5 * 4 * point_to_polygon(point, n, lamp_corners) / std::numbers::pi;
+      EXPECT_NEAR(image.at(x, y).g, expected, 1e-6 * expected + 1e-12) << x << ", " << y;
+      lowest = std::min(lowest, expected);
+      highest = std::max(highest, expected);
+    }
+  EXPECT_LT(lowest, 0.5 * highest) << "the bumps show";
 }
 
 }  // namespace
