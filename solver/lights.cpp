@@ -17,8 +17,40 @@ double ray_epsilon(const Mesh& mesh) {
   return 4e-6 * extent;
 }
 
+std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials) {
+  std::vector<bool> mirror(mesh.surface_count, true);
+  std::vector<std::int64_t> first(mesh.surface_count, -1);
+  const double tolerance = 1e-9 * std::max(1.0, mesh.diagonal());
+  for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    const Material& m = materials[std::size_t(e.material)];
+    if (!(m.specular > 0 && m.shininess == 0)) {
+      mirror[e.surface] = false;
+      continue;
+    }
+    if (first[e.surface] < 0) {
+      first[e.surface] = i;
+      continue;
+    }
+    const Element& f = mesh.elements[std::size_t(first[e.surface])];
+    if (glm::length(e.normal - f.normal) > 1e-9 ||
+        std::abs(glm::dot(e.centroid - f.centroid, f.normal)) > tolerance)
+      mirror[e.surface] = false;
+  }
+  for (std::uint32_t s = 0; s < mesh.surface_count; ++s) mirror[s] = mirror[s] && first[s] >= 0;
+  return mirror;
+}
+
 Lights::Lights(const Mesh& mesh, std::span<const Material> materials)
     : mesh_(mesh), epsilon_(ray_epsilon(mesh)) {
+  const std::vector<bool> mirror = planar_mirrors(mesh, materials);
+  std::vector<bool> listed(mesh.surface_count, false);
+  for (const Element& e : mesh.elements)
+    if (mirror[e.surface] && !listed[e.surface]) {
+      listed[e.surface] = true;
+      mirrors_.push_back(
+          {e.surface, e.centroid, e.normal, materials[std::size_t(e.material)].specular});
+    }
   double total = 0;
   for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -58,55 +90,84 @@ Lights::Sample Lights::sample(Random& random) const {
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
                    int shadow_rays, Random& random) const {
-  // The emitters x sees in front of both planes, with their exact unoccluded F.
+  // The emitters and their images that x sees in front of both planes, with their exact
+  // unoccluded F.
   struct Seen {
     const Emitter* emitter;
+    const Mirror* mirror;  // null: the emitter itself
     double form_factor;
+    double share;  // k_s E F, channel sum: how many rays it gets
   };
   thread_local std::vector<Seen> seen;
   seen.clear();
   double total = 0;
   std::array<Vec3, 4> corners;
-  for (const Emitter& em : emitters_) {
+  auto consider = [&](const Emitter& em, const Mirror* mirror) {
     const Element& e = mesh_.elements[em.element];
-    if (glm::dot(e.normal, x - e.centroid) <= 0) continue;  // behind it: one-sided
+    Vec3 centroid = e.centroid, facing = e.normal;
     for (int k = 0; k < e.vertex_count; ++k)
       corners[std::size_t(k)] = mesh_.vertices[e.v[std::size_t(k)]].position;
+    if (mirror) {
+      if (glm::dot(centroid - mirror->point, mirror->normal) <= 0) return;  // behind it
+      centroid = mirror->reflect(centroid);
+      facing = facing - 2 * glm::dot(facing, mirror->normal) * mirror->normal;
+      for (int k = 0; k < e.vertex_count; ++k)
+        corners[std::size_t(k)] = mirror->reflect(corners[std::size_t(k)]);
+    }
+    if (glm::dot(facing, x - centroid) <= 0) return;  // behind the emitter: one-sided
     const double f = point_to_polygon(x, normal, {corners.data(), std::size_t(e.vertex_count)});
-    if (!(f > 0)) continue;
-    seen.push_back({&em, f});
-    total += f * em.weight;
-  }
+    if (!(f > 0)) return;
+    const double share = f * em.weight * (mirror ? mirror->specular : 1);
+    seen.push_back({&em, mirror, f, share});
+    total += share;
+  };
+  for (const Emitter& em : emitters_) consider(em, nullptr);
+  for (const Mirror& m : mirrors_)
+    if (glm::dot(x - m.point, m.normal) > 0)
+      for (const Emitter& em : emitters_) consider(em, &m);
   if (seen.empty()) return Rgb(0);
 
   const Vec3 from = x + geometric * epsilon_;
-  auto visible = [&](const Emitter& em) {
-    Vec3 d = point_on(mesh_.elements[em.element], random) - from;
+  auto visible = [&](const Seen& s) {
+    const Vec3 y = point_on(mesh_.elements[s.emitter->element], random);
+    Vec3 d = (s.mirror ? s.mirror->reflect(y) : y) - from;
     const double distance = glm::length(d);
     d /= distance;
-    return glm::dot(d, geometric) > 0 && !rays.occluded({from, d}, distance - 2 * epsilon_);
+    if (glm::dot(d, geometric) <= 0) return false;
+    if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
+    // Through the mirror: the first thing on the way is the mirror itself, and from the
+    // point where the ray meets it the reflected ray reaches y.
+    auto hit = rays.intersect({from, d});
+    if (!hit || !hit->front || mesh_.elements[hit->element].surface != s.mirror->surface)
+      return false;
+    const Vec3 on_mirror = from + hit->t * d;
+    const Vec3 r = d - 2 * glm::dot(d, s.mirror->normal) * s.mirror->normal;
+    return !rays.occluded({on_mirror + s.mirror->normal * epsilon_, r},
+                          distance - hit->t - 2 * epsilon_);
+  };
+  auto arriving = [&](const Seen& s) {
+    return s.emitter->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));
   };
   const int n = std::max(1, shadow_rays);
   Rgb sum(0);
   if (seen.size() <= std::size_t(n)) {
-    // Few emitters: each gets its own rays, so a fully visible one adds exactly E F.
+    // Few: each gets its own rays, so one seen whole adds exactly (k_s) E F.
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
       int hits = 0;
-      for (int r = 0; r < each; ++r) hits += visible(*s.emitter);
-      sum += s.emitter->emission * (s.form_factor * hits / each);
+      for (int r = 0; r < each; ++r) hits += visible(s);
+      sum += arriving(s) * (double(hits) / each);
     }
     return sum;
   }
-  // Many: n rays stratified over the emitters by contribution (systematic sampling); each
-  // ray that arrives adds its emitter's E F divided by the chance it was chosen.
+  // Many: n rays stratified over them by contribution (systematic sampling); each ray that
+  // arrives adds its source's (k_s) E F divided by the chance it was chosen.
   const double step = total / n;
   double next = random.next() * step, reached = 0;
   for (const Seen& s : seen) {
-    const double share = s.form_factor * s.emitter->weight;
-    reached += share;
+    reached += s.share;
     for (; next < reached; next += step)
-      if (visible(*s.emitter)) sum += s.emitter->emission * (s.form_factor * step / share);
+      if (visible(s)) sum += arriving(s) * (step / s.share);
   }
   return sum;
 }

@@ -1,11 +1,15 @@
 // The scene's light sources: its emitting elements. The path tracer picks one by power and
 // a point on it (next-event estimation); the view pass asks for the exact direct light at a
-// point: Lambert's closed form per emitter, times the share of it shadow rays find visible.
+// point: Lambert's closed form per emitter, times the share of it shadow rays find visible,
+// and the same for each emitter's virtual image in every planar mirror (Wallace, Cohen &
+// Greenberg 1987), so light reflected once by a flat mirror is as exact as direct light.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "solver/mesh.h"
 #include "solver/random.h"
@@ -21,6 +25,10 @@ namespace bumprad {
 // above its floor.
 double ray_epsilon(const Mesh& mesh);
 
+// Per mesh surface: is it a planar mirror (k_s > 0, shininess 0, all its elements in one
+// plane)? Light from an emitter's image in one is direct light.
+std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials);
+
 class Lights {
  public:
   Lights(const Mesh& mesh, std::span<const Material> materials);
@@ -35,11 +43,13 @@ class Lights {
   Sample sample(Random& random) const;
 
   // The direct irradiance at `x` from the emitters' own emission, in radiosity units
-  // (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's reflectance).
-  // F is exact (Lambert, clipped to the plane of `normal`, which may be a perturbed N');
-  // V_l, the visible share, comes from `shadow_rays` rays spread over the emitters by their
-  // contribution, so a point every emitter sees fully gets the exact value without noise.
-  // Rays leave along `geometric` (the element's own normal); light below it is hidden.
+  // (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's reflectance),
+  // plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact (Lambert, clipped
+  // to the plane of `normal`, which may be a perturbed N'); V, the visible share (through
+  // the mirror, for an image), comes from `shadow_rays` rays spread over the emitters and
+  // images by their contribution, so a point that sees them fully gets the exact value
+  // without noise. Rays leave along `geometric` (the element's own normal); light below it
+  // is hidden.
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              int shadow_rays, Random& random) const;
 
@@ -49,10 +59,17 @@ class Lights {
     Rgb emission;
     double weight;  // channel sum of E
   };
+  struct Mirror {
+    std::uint32_t surface;
+    Vec3 point, normal;
+    double specular;  // k_s
+    Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
+  };
   Vec3 point_on(const Element& e, Random& random) const;
 
   const Mesh& mesh_;
   std::vector<Emitter> emitters_;
+  std::vector<Mirror> mirrors_;
   std::vector<double> cumulative_;  // by power, normalised
   double epsilon_;
 };

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/form_factor_exact.h"
+#include "solver/lights.h"
 #include "solver/stopwatch.h"
 #include "solver/vertex_radiosity.h"
 
@@ -14,17 +15,6 @@ namespace {
 
 double channel_sum(const Rgb& c) {
   return c.r + c.g + c.b;
-}
-
-// Adds `power` to the entry of `source` in a by-source list (specular queues).
-void add_by_source(std::vector<std::pair<std::uint32_t, Rgb>>& list, std::uint32_t source,
-                   const Rgb& power) {
-  auto it =
-      std::find_if(list.begin(), list.end(), [&](const auto& x) { return x.first == source; });
-  if (it == list.end())
-    list.emplace_back(source, power);
-  else
-    it->second += power;
 }
 
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
@@ -44,6 +34,18 @@ std::span<const Vec3> corners(const Mesh& mesh, const Element& e, std::array<Vec
 
 }  // namespace
 
+// Adds to the entry of q's source in a by-source list (specular queues).
+void ProgressiveSolver::add_by_source(std::vector<Queued>& list, const Queued& q) {
+  auto it =
+      std::find_if(list.begin(), list.end(), [&](const Queued& x) { return x.source == q.source; });
+  if (it == list.end()) {
+    list.push_back(q);
+  } else {
+    it->power += q.power;
+    it->emission += q.emission;
+  }
+}
+
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                                      const SolverSettings& settings, const RayScene* rays)
     : mesh_(mesh),
@@ -57,6 +59,7 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       queue_(mesh.elements.size()),
       source_slot_(mesh.patches.size(), -1),
       incident_(mesh.elements.size(), Rgb(0)),
+      incident_emission_(mesh.elements.size(), Rgb(0)),
       radiosity_(mesh.elements.size()),
       unshot_(mesh.elements.size()),
       unshot_emission_(mesh.elements.size()),
@@ -72,6 +75,7 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   }
   if (settings.form_factors == FormFactorMethod::RayCast && !rays)
     throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
+  planar_mirror_ = planar_mirrors(mesh, materials);
   Rgb weighted_rho(0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -115,12 +119,12 @@ bool ProgressiveSolver::shoot() {
   // The patch shoots the area-weighted mean of its elements' unshot radiosity.
   // Its specular queues shoot too, merged by source.
   Rgb shot_power(0), emission_power(0);
-  std::vector<std::pair<std::uint32_t, Rgb>> sources;
+  std::vector<Queued> sources;
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
     shot_power += unshot_[e] * mesh_.elements[e].area;
     emission_power += unshot_emission_[e] * mesh_.elements[e].area;
     unshot_[e] = unshot_emission_[e] = Rgb(0);
-    for (const auto& [source, power] : queue_[e]) add_by_source(sources, source, power);
+    for (const Queued& q : queue_[e]) add_by_source(sources, q);
     queue_[e].clear();
   }
   patch_unshot_power_[pi] = 0;
@@ -139,7 +143,7 @@ bool ProgressiveSolver::shoot() {
   // Element i receives power dB_j A_j F_ji (then dB_i += rho_i dB_j F_ji A_j / A_i).
   double seen = 0;
   for (const VisibleElement& v : visible_) {
-    receive(v.element, shot_power * v.form_factor, pi);
+    receive(v.element, shot_power * v.form_factor, pi, emission_power * v.form_factor);
     direct_[v.element] +=
         reflectance_[v.element] * emission_power * (v.form_factor / mesh_.elements[v.element].area);
     seen += v.form_factor;
@@ -172,32 +176,39 @@ bool ProgressiveSolver::shoot() {
   return true;
 }
 
-void ProgressiveSolver::receive(std::uint32_t i, const Rgb& incident, std::uint32_t source) {
+void ProgressiveSolver::receive(std::uint32_t i, const Rgb& incident, std::uint32_t source,
+                                const Rgb& emission) {
   const Element& e = mesh_.elements[i];
   Rgb diffuse = reflectance_[i] * incident;
   Rgb specular = specular_[i] * incident;
   radiosity_[i] += diffuse / e.area;
   unshot_[i] += diffuse / e.area;
-  if (specular_[i] > 0) add_by_source(queue_[i], source, specular);
+  if (specular_[i] > 0)
+    add_by_source(queue_[i],
+                  {source, specular, planar_mirror_[e.surface] ? specular_[i] * emission : Rgb(0)});
   patch_unshot_power_[e.patch] += channel_sum(diffuse + specular);
   absorbed_ += incident - diffuse - specular;
 }
 
 void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, const Frame& frame,
-                                       const std::vector<std::pair<std::uint32_t, Rgb>>& sources) {
+                                       const std::vector<Queued>& sources) {
   const DeltaFormFactors& d = hemicube_.deltas();
   auto ids = hemicube_.item_buffer();
   // Each source's pixels on this hemi-cube: where its light came in from (P in eq. 5).
   std::vector<std::vector<std::uint32_t>> pixels(sources.size());
-  for (std::size_t k = 0; k < sources.size(); ++k) source_slot_[sources[k].first] = std::int32_t(k);
+  for (std::size_t k = 0; k < sources.size(); ++k)
+    source_slot_[sources[k].source] = std::int32_t(k);
   for (std::size_t p = 0; p < ids.size(); ++p)
     if (ids[p])
       if (std::int32_t k = source_slot_[mesh_.elements[ids[p] - 1].patch]; k >= 0)
         pixels[std::size_t(k)].push_back(std::uint32_t(p));
-  for (const auto& s : sources) source_slot_[s.first] = -1;
+  for (const Queued& s : sources) source_slot_[s.source] = -1;
 
   std::vector<std::uint32_t> touched;
-  auto deposit = [&](std::size_t q, const Rgb& power) {
+  // With exact direct light the map gets no part of an emitter's image: the view pass
+  // computes that light itself.
+  const bool exact = settings_.direct_light == DirectLight::Exact;
+  auto deposit = [&](std::size_t q, const Rgb& power, const Rgb& emission) {
     if (q >= ids.size() || !ids[q]) {
       escaped_ += power;
       return;
@@ -205,15 +216,18 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
     std::uint32_t i = ids[q] - 1;
     if (incident_[i] == Rgb(0)) touched.push_back(i);
     incident_[i] += power;
-    if (map_) map_->receive_ray(i, -glm::normalize(frame.to_world(Vec3(d.direction(q)))), power);
+    incident_emission_[i] += emission;
+    if (map_)
+      map_->receive_ray(i, -glm::normalize(frame.to_world(Vec3(d.direction(q)))),
+                        exact ? power - emission : power);
   };
   // The Phong lobe about the mirror direction, importance-sampled (pdf ~ cos^n) with 32
   // stratified samples turned per pixel; samples below the surface are dropped and the rest
   // renormalised, so exactly the queued power leaves (the lobe conserves energy).
   const double n = shininess_[mesh_.patches[pi].first];
   constexpr int kLobe = 32;
-  auto reflect = [&](std::uint32_t p, const Rgb& power) {
-    if (n <= 0) return deposit(d.mirror(p), power);
+  auto reflect = [&](std::uint32_t p, const Rgb& power, const Rgb& emission) {
+    if (n <= 0) return deposit(d.mirror(p), power, emission);
     Vec3 in(d.direction(p));
     Frame lobe = frame_about(glm::normalize(Vec3(-in.x, -in.y, in.z)), 2.399963 * p);
     std::array<std::size_t, kLobe> out;
@@ -226,30 +240,34 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
           d.pixel_for(lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a)));
       if (q < d.size()) out[std::size_t(valid++)] = q;
     }
-    if (valid == 0) return deposit(d.mirror(p), power);
-    for (int k = 0; k < valid; ++k) deposit(out[std::size_t(k)], power / double(valid));
+    if (valid == 0) return deposit(d.mirror(p), power, emission);
+    for (int k = 0; k < valid; ++k)
+      deposit(out[std::size_t(k)], power / double(valid), emission / double(valid));
   };
 
   for (std::size_t k = 0; k < sources.size(); ++k) {
-    const Rgb& power = sources[k].second;
+    const Queued& s = sources[k];
     double f = 0;
     for (std::uint32_t p : pixels[k]) f += d.dF(p);
     if (f > 0) {
-      for (std::uint32_t p : pixels[k]) reflect(p, power * (d.dF(p) / f));  // H_p of eq. 5
+      for (std::uint32_t p : pixels[k])  // H_p of eq. 5
+        reflect(p, s.power * (d.dF(p) / f), s.emission * (d.dF(p) / f));
       continue;
     }
     // The source is hidden from the patch centre (it lit only part of the patch): its light
     // still arrived along the direction of its centre.
-    Vec3 to_source = mesh_.patches[sources[k].first].centroid - origin;
+    Vec3 to_source = mesh_.patches[s.source].centroid - origin;
     std::size_t p = d.pixel_for(frame.to_local(glm::normalize(to_source)));
     if (p < d.size())
-      reflect(std::uint32_t(p), power);
+      reflect(std::uint32_t(p), s.power, s.emission);
     else
-      escaped_ += power;
+      escaped_ += s.power;
   }
+  // What came from an emitter's image is direct light (a first bounce, seen in a mirror).
   for (std::uint32_t i : touched) {
     receive(i, incident_[i], pi);
-    incident_[i] = Rgb(0);
+    direct_[i] += reflectance_[i] * incident_emission_[i] / mesh_.elements[i].area;
+    incident_[i] = incident_emission_[i] = Rgb(0);
   }
 }
 
@@ -376,7 +394,7 @@ Rgb ProgressiveSolver::unshot_power() const {
   Rgb unshot(0);
   for (std::size_t i = 0; i < unshot_.size(); ++i) {
     unshot += unshot_[i] * mesh_.elements[i].area;
-    for (const auto& q : queue_[i]) unshot += q.second;
+    for (const Queued& q : queue_[i]) unshot += q.power;
   }
   return unshot;
 }

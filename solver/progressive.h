@@ -72,7 +72,8 @@ class ProgressiveSolver {
   double unshot_fraction() const;
   const std::vector<Rgb>& radiosity() const { return radiosity_; }
   // The part of B that came straight from the emitters' emission (rho E F, no bounce in
-  // between): the view pass replaces it with exact direct light (DirectLight::Exact).
+  // between) or from their images in planar mirrors (rho k_s E F): the view pass replaces it
+  // with exact direct light (DirectLight::Exact).
   const std::vector<Rgb>& direct() const { return direct_; }
   // B_i + rho_i * ambient: Cohen 1988's estimate of the light not yet shot (diffuse and
   // queued specular), so early previews are not dark. It tends to zero as the solve
@@ -92,12 +93,22 @@ class ProgressiveSolver {
   // The shot's form factors: the hemi-cube's, corrected in the near field and where it
   // aliases, or all by rays.
   void find_form_factors(std::uint32_t patch, const Vec3& origin);
-  // Element i receives `incident` watts from patch `source`: diffuse and specular shares.
-  void receive(std::uint32_t element, const Rgb& incident, std::uint32_t source);
+  // Specular power queued at a non-diffuse element by the patch it came from. `emission` is
+  // the part that is an emitter's own emission meeting a planar mirror: its reflection is
+  // direct light (the emitter's image; Lights::direct computes it exactly).
+  struct Queued {
+    std::uint32_t source;
+    Rgb power, emission;
+  };
+  static void add_by_source(std::vector<Queued>& list, const Queued& q);
+  // Element i receives `incident` watts from patch `source`: diffuse and specular shares;
+  // `emission` of it is the source's own emission, straight from it.
+  void receive(std::uint32_t element, const Rgb& incident, std::uint32_t source,
+               const Rgb& emission = Rgb(0));
   // The specular part of a shot (paper eq. 4-6): queued power per source, reflected by the
   // lobe from the source's pixels to the outgoing pixels of this hemi-cube.
   void shoot_specular(std::uint32_t patch, const Vec3& origin, const Frame& frame,
-                      const std::vector<std::pair<std::uint32_t, Rgb>>& sources);
+                      const std::vector<Queued>& sources);
 
   const Mesh& mesh_;
   SolverSettings settings_;
@@ -112,9 +123,11 @@ class ProgressiveSolver {
   // Per non-diffuse element, the power it will reflect specularly, by source patch, since
   // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
   // shot at it since then, so O(non-diffuse elements x sources per interval).
-  std::vector<std::vector<std::pair<std::uint32_t, Rgb>>> queue_;
+  std::vector<std::vector<Queued>> queue_;
+  std::vector<bool> planar_mirror_;         // per surface, planar_mirrors()
   std::vector<std::int32_t> source_slot_;   // per patch, scratch for shoot_specular
   std::vector<Rgb> incident_;               // per element, scratch for shoot_specular
+  std::vector<Rgb> incident_emission_;      // the same, its part from emitters' images
   std::vector<Rgb> radiosity_;              // B, per element
   std::vector<Rgb> unshot_;                 // dB, per element
   std::vector<Rgb> unshot_emission_;        // the part of dB that is the element's own E
