@@ -1,5 +1,5 @@
 // Speed against accuracy: the sweep behind docs/speed-accuracy.png (scripts/chart.sh).
-//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box] [elements]
+//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box]
 // Writes CSV rows `part,method,setting,seconds,error`:
 //  - part "point": a point form factor against Lambert's exact value, over 200 random
 //    receivers (tilted up to 60 degrees) below a 1.2 x 0.8 rectangle at distance ~1 ("far")
@@ -8,12 +8,8 @@
 //  - part "perturbed": the perturbed radiosity map, gathered or shot, with 9-65 sampled
 //    normals, against the exact perturbed value (see perturbed_sweep). seconds: texture
 //    work per map vertex.
-//  - part "cornell" and "wrinkled-box": the whole solve, rendered at 128 x 128, against a
-//    reference solved with a 512 hemi-cube. seconds: the solve; error: mean |I - I_ref| /
-//    mean I_ref over the pixels. Methods: hemi-cube at R with the aliasing fallback at 0
-//    (off), 1 (the default) and 4 pixels, and ray-cast form factors.
-//  - part "elements": cornell's image error against its element count (the setting column),
-//    uniform meshes against adaptive ones (see element_sweep).
+//  - part "cornell" and "wrinkled-box": bumprad's images and the path tracer's own against
+//    the path-traced ground truth (see image_sweep).
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -21,10 +17,12 @@
 #include <string>
 #include <vector>
 
+#include "bench/truth_metrics.h"
 #include "protocol/scene_source.h"
 #include "solver/form_factor_exact.h"
 #include "solver/hemicube.h"
 #include "solver/mesh.h"
+#include "solver/path_tracer.h"
 #include "solver/perturbed_map.h"
 #include "solver/progressive.h"
 #include "solver/ray_cast_form_factor.h"
@@ -222,83 +220,57 @@ void perturbed_sweep() {
   }
 }
 
-Image solve_and_render(Scene scene, double* seconds) {
-  scene.camera.width = scene.camera.height = 128;
-  auto t0 = Clock::now();
-  Solution s = solve(scene);
-  *seconds = seconds_since(t0);
-  return render(scene, s);
-}
-
-double image_error(const Image& a, const Image& ref) {
-  double diff = 0, sum = 0;
-  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
-    diff += std::abs(double(a.rgb[i]) - double(ref.rgb[i]));
-    sum += double(ref.rgb[i]);
-  }
-  return diff / sum;
-}
-
+// Parts "cornell" and "wrinkled-box": images at 128 x 128 against the path-traced ground
+// truth (solver/path_tracer.cpp, 16,384 paths a pixel, seed 1), in relative RMS over the lit
+// surfaces with the reference's own noise taken out (bench/truth_metrics.h). Rows:
+//  - path_tracer: the path tracer itself (seed 2) at 1 to 4,096 paths a pixel; setting:
+//    paths a pixel. Its error against time is what bumprad has to beat.
+//  - exact / radiosity (direct_light): bumprad's solve and render, to 3 %, 1 % and 0.3 %
+//    unshot at the scene's element size, and to 0.3 % at twice and half of it; setting:
+//    elements. seconds: solve and render, the time to the image.
 void image_sweep(const std::string& name) {
   Scene base = load_scene("builtin:" + name);
-  base.solver.max_shots = 4000;
-  base.solver.unshot_fraction = 0.002;  // every run converges alike: the form factors differ
-  double seconds = 0;
-  Scene ref = base;
-  ref.solver.hemicube_resolution = 512;
-  Image reference = solve_and_render(ref, &seconds);
-  std::fprintf(stderr, "%s: reference (hemi-cube 512) solved in %.1f s\n", name.c_str(), seconds);
-  for (int res : {32, 64, 100, 150, 250}) {
-    for (double alias : {0.0, 1.0, 4.0}) {
-      Scene s = base;
-      s.solver.hemicube_resolution = res;
-      s.solver.alias_pixels = alias;
-      Image img = solve_and_render(s, &seconds);
-      std::printf("%s,hemicube_alias_%g,%d,%.4e,%.4e\n", name.c_str(), alias, res, seconds,
-                  image_error(img, reference));
-    }
+  base.camera.width = base.camera.height = 128;
+  const Mesh mesh = build_mesh(base);
+  const RayScene rays(mesh);
+  const std::vector<bool> emitter = emitter_pixels(base, mesh, rays);
+  auto t0 = Clock::now();
+  const Image reference = render_reference(base, mesh, rays, {16384, 1});
+  std::fprintf(stderr, "%s: reference (16,384 paths a pixel) in %.0f s\n", name.c_str(),
+               seconds_since(t0));
+  // The path tracer at a quarter of the reference's paths is off by sqrt(4 + 1) times the
+  // reference's noise.
+  double noise = 0;
+  for (int spp = 1; spp <= 4096; spp *= 4) {
+    t0 = Clock::now();
+    const Image traced = render_reference(base, mesh, rays, {spp, 2});
+    const double seconds = seconds_since(t0);
+    const double error = compare(traced, reference, emitter).surfaces;
+    if (spp == 4096) noise = error / std::sqrt(5.0);
+    std::printf("%s,path_tracer,%d,%.4e,%.4e\n", name.c_str(), spp, seconds, error);
   }
-  Scene s = base;
-  s.solver.form_factors = FormFactorMethod::RayCast;
-  Image img = solve_and_render(s, &seconds);
-  std::printf("%s,ray_cast,16,%.4e,%.4e\n", name.c_str(), seconds, image_error(img, reference));
-}
-
-// Part "elements": model no more than the scene needs. cornell's image against a reference
-// meshed at half the default element size, for uniform meshes (element size 2x to 0.75x the
-// default) and for adaptive ones grown from the 2x mesh (1 and 2 levels). seconds: the
-// solve; setting: elements.
-void element_sweep() {
-  Scene base = load_scene("builtin:cornell");
-  base.solver.max_shots = 4000;
-  base.solver.unshot_fraction = 0.002;
+  std::fprintf(stderr, "%s: the reference's own noise %.2f%%\n", name.c_str(), 100 * noise);
   const double size = default_element_size(base);
-  double seconds = 0;
-  Scene ref = base;
-  ref.solver.element_size = size / 2;
-  ref.solver.hemicube_resolution = 300;
-  Image reference = solve_and_render(ref, &seconds);
-  std::fprintf(stderr, "cornell: reference (elements of %.1f) solved in %.1f s\n", size / 2,
-               seconds);
-  auto run = [&](const char* method, Scene s) {
-    s.camera.width = s.camera.height = 128;
-    auto t0 = Clock::now();
-    Solution solution = solve(s);
-    double t = seconds_since(t0);
-    std::printf("elements,%s,%zu,%.4e,%.4e\n", method, solution.mesh->elements.size(), t,
-                image_error(render(s, solution), reference));
+  struct Setting {
+    double element_scale, unshot;
   };
-  for (double scale : {2.0, 1.5, 1.0, 0.75}) {
-    Scene s = base;
-    s.solver.element_size = size * scale;
-    run("uniform", s);
-  }
-  for (int levels : {1, 2}) {
-    Scene s = base;
-    s.solver.element_size = size * 2;
-    s.solver.adaptive_levels = levels;
-    run("adaptive", s);
-  }
+  for (DirectLight direct : {DirectLight::Exact, DirectLight::Radiosity})
+    for (Setting setting : {Setting{1, 0.03}, Setting{1, 0.01}, Setting{1, 0.003},
+                            Setting{2, 0.003}, Setting{0.5, 0.003}}) {
+      Scene s = base;
+      s.solver.direct_light = direct;
+      s.solver.element_size = size * setting.element_scale;
+      s.solver.unshot_fraction = setting.unshot;
+      s.solver.max_shots = 20000;
+      t0 = Clock::now();
+      const Solution solution = solve(s);
+      const Image image = render(s, solution);
+      const double seconds = seconds_since(t0);
+      std::printf("%s,%s,%zu,%.4e,%.4e\n", name.c_str(),
+                  direct == DirectLight::Exact ? "exact" : "radiosity",
+                  solution.mesh->elements.size(), seconds,
+                  without_noise(compare(image, reference, emitter).surfaces, noise));
+    }
 }
 
 }  // namespace
@@ -307,7 +279,7 @@ void element_sweep() {
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::vector<std::string> parts(argv + 1, argv + argc);
-  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box", "elements"};
+  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box"};
   try {
     std::printf("part,method,setting,seconds,error\n");
     for (const std::string& part : parts) {
@@ -316,8 +288,6 @@ int main(int argc, char** argv) {
         point_sweep("near", 0.15);
       } else if (part == "perturbed") {
         perturbed_sweep();
-      } else if (part == "elements") {
-        element_sweep();
       } else {
         image_sweep(part);
       }

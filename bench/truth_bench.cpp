@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <string>
 
+#include "bench/truth_metrics.h"
 #include "protocol/scene_source.h"
 #include "solver/camera.h"
 #include "solver/image.h"
@@ -23,65 +24,8 @@
 #include "solver/solution.h"
 #include "solver/stopwatch.h"
 
-namespace {
-
-using namespace bumprad;
-
-// Pixels that show an emitter, or lie within two pixels of one. A visible light is so much
-// brighter than what it lights that it carries nearly all of an image's squared norm (99 %
-// in the Cornell box): error over all pixels then measures the light's edges, whose
-// coverage each renderer samples differently, and not the lighting.
-bool emits(const Rgb& e) {
-  return e.r + e.g + e.b > 0;
-}
-
-std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays) {
-  const Camera& c = scene.camera;
-  const PinholeCamera pinhole(c);
-  std::vector<bool> light(std::size_t(c.width) * std::size_t(c.height), false);
-  for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x)
-      if (auto hit = rays.intersect(pinhole.ray(x + 0.5, y + 0.5)))
-        light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] =
-            emits(scene.materials[std::size_t(mesh.elements[hit->element].material)].emission);
-  std::vector<bool> near = light;
-  for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x)
-      for (int dy = -2; dy <= 2; ++dy)
-        for (int dx = -2; dx <= 2; ++dx) {
-          const int sx = x + dx, sy = y + dy;
-          if (sx >= 0 && sy >= 0 && sx < c.width && sy < c.height &&
-              light[std::size_t(sy) * std::size_t(c.width) + std::size_t(sx)])
-            near[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
-        }
-  return near;
-}
-
-struct Comparison {
-  double surfaces;    // relative RMS over pixels that show no emitter
-  double all;         // relative RMS over every pixel
-  double brightness;  // sum(a) / sum(r) over the surfaces' pixels
-};
-
-// sqrt(sum |a - r|^2 / sum |r|^2), linear radiance, every channel.
-Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emitter) {
-  double diff[2] = {0, 0}, norm[2] = {0, 0}, sa = 0, sr = 0;
-  for (std::size_t i = 0; i < r.rgb.size(); ++i) {
-    const double d = double(a.rgb[i]) - double(r.rgb[i]);
-    const bool surface = !emitter[i / 3];
-    for (int k = 0; k < 2; ++k)
-      if (k == 0 || surface) {
-        diff[k] += d * d;
-        norm[k] += double(r.rgb[i]) * double(r.rgb[i]);
-      }
-    if (surface) sa += a.rgb[i], sr += r.rgb[i];
-  }
-  return {std::sqrt(diff[1] / norm[1]), std::sqrt(diff[0] / norm[0]), sa / sr};
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
+  using namespace bumprad;
   std::string source, cache;
   int spp = 1024;
   for (int i = 1; i < argc; ++i) {
@@ -150,7 +94,7 @@ int main(int argc, char** argv) {
       std::printf(
           "the reference's own noise on lit surfaces: %.2f%%; bumprad with it taken out: %.2f%% "
           "off\n",
-          100 * noise, 100 * std::sqrt(std::max(0.0, c.surfaces * c.surfaces - noise * noise)));
+          100 * noise, 100 * without_noise(c.surfaces, noise));
     }
     return 0;
   } catch (const std::exception& e) {

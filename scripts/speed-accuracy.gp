@@ -1,9 +1,9 @@
-# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Five panels, error
+# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Four panels, error
 # against time on log scales, one curve per method: lower left is better.
 set datafile separator ","
-set terminal pngcairo size 1300,1400 font ",10"
+set terminal pngcairo size 1300,1000 font ",10"
 set output "docs/speed-accuracy.png.tmp"
-set multiplot layout 3,2
+set multiplot layout 2,2
 set logscale xy
 set grid
 set format x "10^{%L}"
@@ -30,20 +30,15 @@ plot rows("perturbed","gather") using 4:5:3 w lp pt 7 t "gather (hemi-cube 150 p
      rows("perturbed","shoot") using 4:5:3 w labels offset 0,-0.8 font ",8" notitle
 
 do for [scene in "cornell wrinkled-box"] {
-  set title sprintf("%s: image vs hemi-cube 512 reference", scene)
-  set xlabel "solve seconds (to 0.2% unshot)"
-  set ylabel "mean |I - I_{ref}| / mean I_{ref}"
-  plot rows(scene,"hemicube_alias_0") using 4:5 w lp pt 7 t "hemi-cube R 32-250", \
-       rows(scene,"hemicube_alias_1") using 4:5 w lp pt 6 t "+ ray-cast fallback < 1 pixel (default)", \
-       rows(scene,"hemicube_alias_4") using 4:5 w lp pt 4 t "+ fallback < 4 pixels", \
-       rows(scene,"ray_cast") using 4:5 w p pt 5 ps 1.5 t "ray cast, 16 samples per patch"
+  set title sprintf("%s (128 x 128) vs path-traced ground truth", scene)
+  set xlabel "seconds to the image (solve and render; path tracer: render)"
+  set ylabel "relative RMS error, lit surfaces"
+  plot rows(scene,"path_tracer") using 4:5 w lp pt 7 t "path tracer, 1-4096 paths a pixel", \
+       rows(scene,"path_tracer") using 4:5:3 w labels offset 0,0.8 font ",8" notitle, \
+       rows(scene,"exact") using 4:5 w p pt 5 ps 1.3 t "bumprad, exact direct light (default)", \
+       rows(scene,"exact") using 4:5:3 w labels offset 0,-0.8 font ",8" notitle, \
+       rows(scene,"radiosity") using 4:5 w p pt 4 ps 1.3 t "bumprad, all light from the radiosity (paper)"
 }
-set title "cornell: elements vs image error (reference: elements of half the default size)"
-set xlabel "elements"
-set ylabel "mean |I - I_{ref}| / mean I_{ref}"
-set format x "%g"
-plot rows("elements","uniform") using 3:5 w lp pt 7 t "uniform, element size 2x to 0.75x the default", \
-     rows("elements","adaptive") using 3:5 w lp pt 5 t "adaptive from 2x, 1 and 2 levels"
 unset multiplot
 set output
 system("mv docs/speed-accuracy.png.tmp docs/speed-accuracy.png")

@@ -54,6 +54,17 @@ struct Room {
   }
 };
 
+// The mean of `trials` estimates at x on the floor, each with its own seed.
+double mean_direct(const Lights& lights, const Room& room, const Vec3& x, int rays, int trials) {
+  const Vec3 up(0, 0, 1);
+  double sum = 0;
+  for (int k = 0; k < trials; ++k) {
+    Random random(std::uint64_t(k) + 1);
+    sum += lights.direct(x, up, up, *room.rays, rays, random).g;
+  }
+  return sum / trials;
+}
+
 TEST(Lights, UnoccludedDirectLightIsLambertTimesE) {
   const Room room(0.25);  // 16 emitter elements
   const Lights lights(room.mesh, room.scene.materials);
@@ -93,14 +104,8 @@ TEST(Lights, APartlyHiddenEmitterGivesItsVisiblePart) {
   const Room room(0.25, /*blocker=*/true);
   const Lights lights(room.mesh, room.scene.materials);
   const Vec3 up(0, 0, 1), x(0.1, 0.1, 0);  // the shadow line crosses elements at x = -0.1
-  double sum = 0;
-  const int trials = 400;
-  for (int k = 0; k < trials; ++k) {
-    Random random(std::uint64_t(k) + 1);
-    sum += lights.direct(x, up, up, *room.rays, 16, random).g;
-  }
   // 6,400 rays, a sixth of them at elements the line crosses: about 0.002 standard error.
-  EXPECT_NEAR(sum / trials / room.exact(x, up, -0.1), 1, 0.01);
+  EXPECT_NEAR(mean_direct(lights, room, x, 16, 400) / room.exact(x, up, -0.1), 1, 0.01);
 }
 
 TEST(Lights, FewerRaysThanEmittersStayExactInTheOpenAndUnbiasedInShadow) {
@@ -114,14 +119,8 @@ TEST(Lights, FewerRaysThanEmittersStayExactInTheOpenAndUnbiasedInShadow) {
   const Room half(0.0625, /*blocker=*/true);
   const Lights lights(half.mesh, half.scene.materials);
   const Vec3 y(0.1, 0.1, 0);
-  double sum = 0;
-  const int trials = 2000;
-  for (int k = 0; k < trials; ++k) {
-    Random r(std::uint64_t(k) + 1);
-    sum += lights.direct(y, up, up, *half.rays, 4, r).g;
-  }
   // 8,000 rays picked by contribution: about 0.006 standard error.
-  EXPECT_NEAR(sum / trials / half.exact(y, up, -0.1), 1, 0.03);
+  EXPECT_NEAR(mean_direct(lights, half, y, 4, 2000) / half.exact(y, up, -0.1), 1, 0.03);
 }
 
 }  // namespace

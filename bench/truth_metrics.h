@@ -1,0 +1,33 @@
+// How benchmarks measure an image against a path-traced reference: relative RMS error over
+// the lit surfaces (emitters' pixels masked) and over all pixels, and the brightness ratio.
+#pragma once
+
+#include <vector>
+
+#include "solver/image.h"
+#include "solver/mesh.h"
+#include "solver/ray_scene.h"
+#include "solver/scene.h"
+
+namespace bumprad {
+
+// Pixels that show an emitter, or lie within two pixels of one. A visible light is so much
+// brighter than what it lights that it carries nearly all of an image's squared norm (99 %
+// in the Cornell box): error over all pixels then measures the light's edges, whose
+// coverage each renderer samples differently, and not the lighting.
+std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays);
+
+struct Comparison {
+  double surfaces;    // relative RMS over pixels that show no emitter
+  double all;         // relative RMS over every pixel
+  double brightness;  // sum(a) / sum(r) over the surfaces' pixels
+};
+
+// sqrt(sum |a - r|^2 / sum |r|^2), linear radiance, every channel.
+Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emitter);
+
+// An error measured against a noisy reference, with the reference's own noise (relative
+// RMS) taken out: independent errors add in squares.
+double without_noise(double measured, double noise);
+
+}  // namespace bumprad
