@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -85,7 +86,53 @@ Lights::Sample Lights::sample(Random& random) const {
                emitters_.size() - 1);
   const Element& e = mesh_.elements[emitters_[i].element];
   const double chosen = cumulative_[i] - (i > 0 ? cumulative_[i - 1] : 0);
-  return {emitters_[i].element, point_on(e, random), chosen / e.area};
+  return {emitters_[i].element, point_on(e, random), chosen / e.area, emitters_[i].emission};
+}
+
+bool Lights::visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+                             const RayScene& rays) const {
+  Vec3 d = to_image - from;
+  const double distance = glm::length(d);
+  d /= distance;
+  auto hit = rays.intersect({from, d});
+  if (!hit || !hit->front || mesh_.elements[hit->element].surface != mirror.surface) return false;
+  const Vec3 on_mirror = from + hit->t * d;
+  const Vec3 r = d - 2 * glm::dot(d, mirror.normal) * mirror.normal;
+  return !rays.occluded({on_mirror + mirror.normal * epsilon_, r},
+                        distance - hit->t - 2 * epsilon_);
+}
+
+Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
+                       Random& random) const {
+  if (emitters_.empty()) return Rgb(0);
+  // One emitter point for the emitter and every mirror's image of it: each term below is
+  // an unbiased estimate of its own integral, so their sum is one of the total.
+  const Sample light = sample(random);
+  const Element& le = mesh_.elements[light.element];
+  const Rgb& emission = light.emission;
+  auto term = [&](const Vec3& y, const Vec3& facing) {
+    Vec3 d = y - from;
+    const double distance2 = glm::dot(d, d);
+    d /= std::sqrt(distance2);
+    const double cos_here = glm::dot(normal, d), cos_there = -glm::dot(facing, d);
+    if (cos_here <= 0 || cos_there <= 0) return 0.0;
+    return cos_here * cos_there / (std::numbers::pi * distance2 * light.pdf_area);
+  };
+  Rgb sum(0);
+  if (const double g = term(light.point, le.normal); g > 0) {
+    const double distance = glm::length(light.point - from);
+    if (!rays.occluded({from, (light.point - from) / distance}, distance - 2 * epsilon_))
+      sum += emission * g;
+  }
+  for (const Mirror& m : mirrors_) {
+    if (glm::dot(from - m.point, m.normal) <= 0 || glm::dot(light.point - m.point, m.normal) <= 0)
+      continue;
+    const Vec3 image = m.reflect(light.point);
+    const Vec3 facing = le.normal - 2 * glm::dot(le.normal, m.normal) * m.normal;
+    if (const double g = term(image, facing); g > 0 && visible_through(m, from, image, rays))
+      sum += emission * (m.specular * g);
+  }
+  return sum;
 }
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
@@ -135,15 +182,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
     d /= distance;
     if (glm::dot(d, geometric) <= 0) return false;
     if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
-    // Through the mirror: the first thing on the way is the mirror itself, and from the
-    // point where the ray meets it the reflected ray reaches y.
-    auto hit = rays.intersect({from, d});
-    if (!hit || !hit->front || mesh_.elements[hit->element].surface != s.mirror->surface)
-      return false;
-    const Vec3 on_mirror = from + hit->t * d;
-    const Vec3 r = d - 2 * glm::dot(d, s.mirror->normal) * s.mirror->normal;
-    return !rays.occluded({on_mirror + s.mirror->normal * epsilon_, r},
-                          distance - hit->t - 2 * epsilon_);
+    return visible_through(*s.mirror, from, from + d * distance, rays);
   };
   auto arriving = [&](const Seen& s) {
     return s.emitter->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));

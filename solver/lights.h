@@ -38,6 +38,7 @@ class Lights {
     std::uint32_t element;
     Vec3 point;
     double pdf_area;  // per unit area, over all lights
+    Rgb emission;
   };
   // An emitter chosen by its power (area times E's channel sum), a point on it uniformly.
   Sample sample(Random& random) const;
@@ -53,6 +54,13 @@ class Lights {
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              int shadow_rays, Random& random) const;
 
+  // Next-event estimation for the path tracer, unbiased: a point y on an emitter chosen by
+  // power, E cos cos' / (pi r^2 pdf) if y is visible from `from`, plus the same through each
+  // planar mirror (k_s times, to y's image): radiosity units, before the receiver's
+  // reflectance. A path that leaves a diffuse surface and meets an emitter next, or after
+  // one planar mirror, must then not count that emitter's emission again.
+  Rgb next_event(const Vec3& from, const Vec3& normal, const RayScene& rays, Random& random) const;
+
  private:
   struct Emitter {
     std::uint32_t element;
@@ -66,6 +74,11 @@ class Lights {
     Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
   };
   Vec3 point_on(const Element& e, Random& random) const;
+  // Whether the point `to_image` (an emitter point's image in `mirror`) is seen from `from`
+  // through the mirror: the mirror is the first thing on the way, and the reflected ray
+  // reaches the emitter point.
+  bool visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+                       const RayScene& rays) const;
 
   const Mesh& mesh_;
   std::vector<Emitter> emitters_;

@@ -29,18 +29,22 @@ class PathTracer {
         mesh_(mesh),
         rays_(rays),
         lights_(mesh, scene.materials),
+        planar_mirror_(planar_mirrors(mesh, scene.materials)),
         epsilon_(ray_epsilon(mesh)) {}
 
   // Radiance along the camera ray.
   Rgb radiance(Ray ray, Random& random) const {
     Rgb sum(0), throughput(1);
-    bool count_emission = true;  // no light was sampled for the previous bounce
+    // What the path met since it last left a diffuse surface. There next-event estimation
+    // counted the emitters and their images in planar mirrors, so an emitter met straight
+    // after it, or after one planar mirror, must not be counted again.
+    enum class Since { Camera, Diffuse, OneMirror, Uncovered } since = Since::Camera;
     for (int depth = 0; depth < 1000; ++depth) {
       auto hit = rays_.intersect(ray);
       if (!hit || !hit->front) break;  // one-sided surfaces: a back face absorbs
       const Element& e = mesh_.elements[hit->element];
       const Material& m = scene_.materials[std::size_t(e.material)];
-      if (count_emission) sum += throughput * m.emission / kPi;
+      if (since == Since::Camera || since == Since::Uncovered) sum += throughput * m.emission / kPi;
 
       const SurfaceAt s = surface_at(mesh_, e, hit->u, hit->v);
       Vec3 normal = s.normal;
@@ -58,18 +62,21 @@ class PathTracer {
       const double choice = random.next();
       if (choice < diffuse) {
         throughput *= rho / diffuse;
-        sum += throughput * direct_light(from, normal, random);
+        sum += throughput * lights_.next_event(from, normal, rays_, random) / kPi;
         const Frame frame = frame_about(normal);
         const double r = std::sqrt(random.next()), phi = 2 * kPi * random.next();
         ray = {from, frame.to_world(Vec3(r * std::cos(phi), r * std::sin(phi),
                                          std::sqrt(std::max(0.0, 1 - r * r))))};
-        count_emission = false;
+        since = Since::Diffuse;
       } else if (choice < diffuse + m.specular) {
         const Vec3 mirror = glm::reflect(ray.direction, normal);
         Vec3 d = mirror;
         if (m.shininess > 0 && !phong_direction(mirror, normal, m.shininess, random, d)) break;
         ray = {from, d};
-        count_emission = true;
+        const bool planar = m.shininess == 0 && planar_mirror_[e.surface];
+        since = since == Since::Camera              ? Since::Camera
+                : since == Since::Diffuse && planar ? Since::OneMirror
+                                                    : Since::Uncovered;
       } else {
         break;
       }
@@ -79,23 +86,6 @@ class PathTracer {
   }
 
  private:
-  // Light from a point on an emitter, through a shadow ray (next-event estimation).
-  Rgb direct_light(const Vec3& from, const Vec3& normal, Random& random) const {
-    if (lights_.empty()) return Rgb(0);
-    Lights::Sample light = lights_.sample(random);
-    const Element& le = mesh_.elements[light.element];
-    Vec3 d = light.point - from;
-    const double distance2 = glm::dot(d, d);
-    const double distance = std::sqrt(distance2);
-    d /= distance;
-    const double cos_here = glm::dot(normal, d), cos_there = -glm::dot(le.normal, d);
-    if (cos_here <= 0 || cos_there <= 0) return Rgb(0);
-    if (rays_.occluded({from, d}, distance - 2 * epsilon_)) return Rgb(0);
-    // (rho / pi) (E / pi) cos cos' / (r^2 pdf); rho is in the throughput already.
-    return scene_.materials[std::size_t(le.material)].emission / (kPi * kPi) * cos_here *
-           cos_there / (distance2 * light.pdf_area);
-  }
-
   // A direction from the Phong lobe about `mirror`, drawn again while it points below the
   // surface (the view pass renormalises the lobe the same way); false if none is found.
   static bool phong_direction(const Vec3& mirror, const Vec3& normal, double shininess,
@@ -115,6 +105,7 @@ class PathTracer {
   const Mesh& mesh_;
   const RayScene& rays_;
   Lights lights_;
+  std::vector<bool> planar_mirror_;  // per surface
   double epsilon_;
 };
 

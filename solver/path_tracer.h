@@ -4,7 +4,10 @@
 // reflectance rho (times a colour texture), a specular fraction k_s reflected as a mirror or
 // a Phong lobe (cos^shininess about the mirror direction, renormalised above the surface, as
 // the view pass does), and bump functions as Blinn's perturbed shading normal. Direct light
-// is sampled at every diffuse bounce (next-event estimation); Russian roulette ends paths.
+// is sampled at every diffuse bounce (next-event estimation), and so is light through each
+// planar mirror, to the emitter's image: light a flat mirror throws on a diffuse surface
+// would otherwise be found only by paths that happen to bounce into a small emitter's
+// image. Russian roulette ends paths.
 #pragma once
 
 #include <cstdint>
