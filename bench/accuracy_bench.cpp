@@ -1,5 +1,5 @@
 // Speed against accuracy: the sweep behind docs/speed-accuracy.png (scripts/chart.sh).
-//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box]
+//   build/bin/bumprad-bench-accuracy [point] [perturbed] [cornell] [wrinkled-box] [paper-room]
 // Writes CSV rows `part,method,setting,seconds,error`:
 //  - part "point": a point form factor against Lambert's exact value, over 200 random
 //    receivers (tilted up to 60 degrees) below a 1.2 x 0.8 rectangle at distance ~1 ("far")
@@ -8,7 +8,7 @@
 //  - part "perturbed": the perturbed radiosity map, gathered or shot, with 9-65 sampled
 //    normals, against the exact perturbed value (see perturbed_sweep). seconds: texture
 //    work per map vertex.
-//  - part "cornell" and "wrinkled-box": bumprad's images and the path tracer's own against
+//  - parts "cornell", "wrinkled-box", "paper-room": bumprad's images and the path tracer's own against
 //    the path-traced ground truth (see image_sweep).
 #include <cmath>
 #include <cstdio>
@@ -231,6 +231,10 @@ void perturbed_sweep() {
 void image_sweep(const std::string& name) {
   Scene base = load_scene("builtin:" + name);
   base.camera.width = base.camera.height = 128;
+  // 4 x 4 rays a pixel, close to the path tracer's box-filtered pixels: at 128 x 128 the
+  // edges of objects are a large share of the pixels, and coarser antialiasing would
+  // measure their coverage rather than the lighting.
+  base.camera.antialias = 4;
   const Mesh mesh = build_mesh(base);
   const RayScene rays(mesh);
   const std::vector<bool> emitter = emitter_pixels(base, mesh, rays);
@@ -279,7 +283,7 @@ void image_sweep(const std::string& name) {
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::vector<std::string> parts(argv + 1, argv + argc);
-  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box"};
+  if (parts.empty()) parts = {"point", "perturbed", "cornell", "wrinkled-box", "paper-room"};
   try {
     std::printf("part,method,setting,seconds,error\n");
     for (const std::string& part : parts) {

@@ -35,14 +35,25 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
 
 std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
   const double epsilon = ray_epsilon(mesh);
-  auto is_open = [&](const Element& e, const Vec3& point) {
+  // A point on a non-planar quad may lie a little behind the two triangles Embree makes of
+  // it: a ray that meets its own element first passes on from there.
+  auto first_hit = [&](std::uint32_t self, Ray ray) {
+    auto hit = rays.intersect(ray);
+    if (hit && hit->element == self) {
+      ray.origin += ray.direction * (hit->t + epsilon);
+      hit = rays.intersect(ray);
+    }
+    return hit;
+  };
+  auto is_open = [&](std::uint32_t i, const Vec3& point) {
+    const Element& e = mesh.elements[i];
     const Frame frame = frame_about(e.normal);
     const Vec3 from = point + e.normal * epsilon;
     for (int d = 0; d < 5; ++d) {
       const double phi = std::numbers::pi / 2 * d;
       const Vec3 local =
           d == 0 ? Vec3(0, 0, 1) : Vec3(0.866 * std::cos(phi), 0.866 * std::sin(phi), 0.5);
-      auto hit = rays.intersect({from, frame.to_world(local)});
+      auto hit = first_hit(i, {from, frame.to_world(local)});
       if (!hit || hit->front) return true;
     }
     return false;
@@ -51,7 +62,7 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
     int open = 0;
-    for (const Vec3& point : quarter_points(mesh, e)) open += is_open(e, point);
+    for (const Vec3& point : quarter_points(mesh, e)) open += is_open(std::uint32_t(i), point);
     if (open == 0 || open == 4) {
       out[i] = open / 4.0;
       continue;
@@ -69,7 +80,7 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
         for (int k = 0; k < e.vertex_count; ++k)
           point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
         ++inside;
-        open += is_open(e, point);
+        open += is_open(std::uint32_t(i), point);
       }
     out[i] = std::max(1, open) / double(inside);
   }
