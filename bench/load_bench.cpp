@@ -20,7 +20,7 @@
 
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
-#include "solver/stopwatch.h"
+#include "common/stopwatch.h"
 
 namespace {
 

@@ -15,7 +15,7 @@
 
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
-#include "solver/stopwatch.h"
+#include "common/stopwatch.h"
 
 int main(int argc, char** argv) {
   using namespace bumprad;

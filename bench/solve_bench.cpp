@@ -9,11 +9,11 @@
 #include <thread>
 #include <vector>
 
+#include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/mesh.h"
 #include "solver/progressive.h"
 #include "solver/ray_scene.h"
-#include "solver/stopwatch.h"
 
 namespace {
 

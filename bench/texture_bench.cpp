@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/solution.h"
-#include "solver/stopwatch.h"
 
 int main(int argc, char** argv) {
   using namespace bumprad;

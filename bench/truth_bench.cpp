@@ -15,6 +15,7 @@
 #include <string>
 
 #include "bench/truth_metrics.h"
+#include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/camera.h"
 #include "solver/image.h"
@@ -22,7 +23,6 @@
 #include "solver/path_tracer.h"
 #include "solver/ray_scene.h"
 #include "solver/solution.h"
-#include "solver/stopwatch.h"
 
 int main(int argc, char** argv) {
   using namespace bumprad;

@@ -1,6 +1,6 @@
 // bumprad: the command line. `render` solves a scene and writes its image, `retexture`
 // re-renders a saved solution, `reference` path-traces its ground truth, `serve` runs the
-// HTTP service, `scenes` lists the built-ins.
+// HTTP service, `worker` solves for it from a shared store, `scenes` lists the built-ins.
 #include <cstdio>
 #include <iostream>
 #include <string_view>
@@ -21,7 +21,8 @@ constexpr const char* kHelp =
     "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
     "  bumprad reference SCENE -o REF.exr [--spp N] [--seed S]   path-traced ground truth\n"
-    "  bumprad serve [--port P] [--data-dir DIR] ...   the HTTP service (serve --help)\n"
+    "  bumprad serve [--port P] [--data-dir DIR | --store URL] ...   the HTTP service\n"
+    "  bumprad worker --store URL [--workers N] ...   a solver node for serve --store\n"
     "  bumprad scenes           list the built-in scenes (use as builtin:NAME)\n"
     "  bumprad --help\n";
 
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   if (command == "reference") return bumprad::reference_command(rest);
   if (command == "retexture") return bumprad::retexture_command(rest);
   if (command == "serve") return bumprad::serve_command(rest);
+  if (command == "worker") return bumprad::worker_command(rest);
   if (command == "scenes") {
     for (const auto& s : bumprad::builtin_scenes()) std::cout << s.name << "\n";
     return 0;

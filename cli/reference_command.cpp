@@ -8,12 +8,12 @@
 #include <string>
 
 #include "cli/usage_error.h"
+#include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/image.h"
 #include "solver/mesh.h"
 #include "solver/path_tracer.h"
 #include "solver/ray_scene.h"
-#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {

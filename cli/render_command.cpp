@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/usage_error.h"
+#include "common/atomic_file.h"
+#include "common/stopwatch.h"
 #include "protocol/scene_json.h"
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
 #include "protocol/solution_json.h"
-#include "solver/atomic_file.h"
 #include "solver/image.h"
 #include "solver/solution.h"
-#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {

@@ -4,11 +4,11 @@
 #include <iostream>
 #include <string>
 
+#include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
 #include "solver/image.h"
 #include "solver/solution.h"
-#include "solver/stopwatch.h"
 
 namespace bumprad {
 namespace {

@@ -1,4 +1,5 @@
-// `bumprad serve`: runs the HTTP render service (server/) with options from the command line.
+// `bumprad serve`: runs the HTTP render service (server/) with options from the command line;
+// `bumprad worker`: a solver node on a shared PostgreSQL store, with the same options.
 #pragma once
 
 #include <span>
@@ -7,5 +8,6 @@
 namespace bumprad {
 
 int serve_command(std::span<const std::string_view> args);
+int worker_command(std::span<const std::string_view> args);
 
 }  // namespace bumprad

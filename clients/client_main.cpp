@@ -14,9 +14,9 @@
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
 #include "clients/progress_bar.h"
-#include "protocol/api_json.h"
-#include "solver/atomic_file.h"
-#include "solver/stopwatch.h"
+#include "common/atomic_file.h"
+#include "common/stopwatch.h"
+#include "protocol/job_json.h"
 
 namespace bumprad {
 namespace {

@@ -1,6 +1,6 @@
-// The HTTP API's JSON (protocol/openapi.json): job requests to validated scenes, job records
-// to the JSON the API answers and the server keeps on disk, progress events, re-texture
-// requests and problem details. Every rejection is a SceneError naming the request's field.
+// The HTTP API's requests that carry scenes (protocol/openapi.json): job and re-texture
+// requests to validated scenes, cost answers, the built-in scenes' list. Every rejection is
+// a SceneError naming the request's field. Job records and events are in job_json.h.
 #pragma once
 
 #include <optional>
@@ -8,54 +8,11 @@
 #include <string_view>
 #include <vector>
 
+#include "protocol/job_json.h"
 #include "protocol/scene_json.h"
-#include "solver/image.h"
 #include "solver/scene.h"
 
 namespace bumprad {
-
-enum class JobState { Queued, Running, Done, Failed, Cancelled, Interrupted };
-
-std::string_view to_string(JobState state);
-std::optional<JobState> job_state_from(std::string_view name);
-// Done, failed, cancelled and interrupted jobs do no more work.
-bool is_finished(JobState state);
-
-// What the server knows of one job. Times are Unix seconds; 0 means not yet.
-struct JobRecord {
-  std::string id;
-  JobState state = JobState::Queued;
-  std::string scene_name;  // "builtin:NAME" or "inline"
-  double created = 0, started = 0, finished = 0;
-  int shots = 0, max_shots = 0, preview_every = 0;
-  double unshot_fraction = 1;
-  int step = 0;             // the latest refinement step with a preview; 0: none yet
-  int first_kept_step = 0;  // older step previews have been dropped
-  std::size_t elements = 0, patches = 0;
-  double seconds_solve = 0, seconds_texture = 0, seconds_previews = 0;
-  std::string error;  // why the job failed or was interrupted
-};
-
-std::string job_url(const std::string& id);
-std::string step_url(const std::string& id, int step);
-
-// The API's view of a job, with links to its resources. The server stores the same JSON.
-std::string job_to_json(const JobRecord& job);
-// Reads a stored record back. Throws MalformedJson or SceneError.
-JobRecord job_from_json(std::string_view text);
-// A JSON array of jobs, for GET /v1/jobs.
-std::string jobs_to_json(const std::vector<JobRecord>& jobs);
-
-// One refinement step, for the event stream: its number, progress and preview URL.
-std::string step_event_json(const JobRecord& job);
-
-struct StepEvent {
-  int step = 0, shots = 0, max_shots = 0;
-  double unshot_fraction = 1;
-  std::string preview;  // the step's URL path
-};
-// Throws MalformedJson or SceneError.
-StepEvent step_event_from_json(std::string_view text);
 
 struct JobRequest {
   Scene scene;
@@ -68,18 +25,6 @@ struct JobRequest {
 // in the scene, a job previews about 20 steps. Throws MalformedJson or SceneError whose
 // pointer is into the request ("/scene/objects/0/size", "/bumps/wall/amplitude").
 JobRequest parse_job_request(std::string_view body, const ImageFiles& files);
-
-// The client's side of POST /v1/jobs: a built-in scene by name (`scene_json` empty) or an
-// inline scene, with optional bump functions (a "bumps" block's JSON) and solver settings.
-// Throws MalformedJson naming which text is not JSON.
-struct JobSubmission {
-  std::string builtin;
-  std::string scene_json, bumps_json;
-  std::optional<int> max_shots, preview_every;
-};
-std::string job_request_json(const JobSubmission& submission);
-// The client's side of POST /v1/jobs/{id}/retexture.
-std::string retexture_request_json(std::string_view bumps_json, ImageFormat format);
 
 struct RetextureRequest {
   Scene scene;  // the solved scene with the new bump functions and camera
@@ -98,14 +43,5 @@ std::string validation_json(double solve_s, double render_s, double limit_s);
 
 // GET /v1/scenes: the built-in scenes, by name and description.
 std::string builtin_scenes_json();
-
-// `text` with every byte that is not part of well-formed UTF-8 written as \xNN, so that
-// a message quoting a request's bytes can always be sent as JSON.
-std::string valid_utf8(std::string_view text);
-
-// RFC 9457 problem details; `field` (a JSON pointer) is added when the problem has one.
-// The detail and field may quote the request's bytes: they are made valid UTF-8.
-std::string problem_json(int status, std::string_view title, std::string_view detail,
-                         std::string_view field = {});
 
 }  // namespace bumprad

@@ -14,7 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "protocol/scene_json.h"
+#include "protocol/json_parse.h"
+#include "solver/scene.h"  // Vec3, Rgb and Limits, header-only
 
 namespace bumprad {
 

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <vector>
 
+#include "common/atomic_file.h"
 #include "protocol/scene_json.h"
-#include "solver/atomic_file.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
@@ -114,12 +114,15 @@ std::string encode_solution(std::string_view scene_json, const Solution& solutio
 }
 
 LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles& files) {
-  const std::string name = path.string();
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw SolutionFileError(name + ": cannot open the solution file");
+  if (!in) throw SolutionFileError(path.string() + ": cannot open the solution file");
   std::ostringstream text;
   text << in.rdbuf();
-  const std::string bytes = text.str();
+  return decode_solution(text.str(), path.string(), files);
+}
+
+LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
+                               const ImageFiles& files) {
   if (bytes.size() < sizeof kMagic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
     throw SolutionFileError(name + ": not a bumprad solution file");
   Reader header(std::string_view(bytes).substr(sizeof kMagic), name);

@@ -35,5 +35,8 @@ struct LoadedSolution {
 // file, another format version, truncated or corrupt, or inconsistent with its scene.
 // The scene's image files are read as `files` allows.
 LoadedSolution load_solution(const std::filesystem::path& path, const ImageFiles& files = {});
+// The same from the file's bytes (a database column); `name` stands for the file in errors.
+LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
+                               const ImageFiles& files = {});
 
 }  // namespace bumprad

@@ -5,6 +5,9 @@
 #include <optional>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "common/stopwatch.h"
 #include "protocol/api_json.h"
 #include "protocol/builtin_scenes.h"
 #include "server/step_stream.h"
@@ -14,6 +17,11 @@
 
 namespace bumprad {
 namespace {
+
+constexpr std::string_view kIdempotencyKey = "Idempotency-Key";
+constexpr std::string_view kKeyCharacters =
+    " !\"#$%&'()*+,-./"
+    "0123456789:;<=>?@ABCDEFGHIJKLMNOPQRSTUVWXYZ[\\]^_`abcdefghijklmnopqrstuvwxyz{|}~";
 
 std::vector<std::string_view> split_path(std::string_view path) {
   std::vector<std::string_view> parts;
@@ -161,12 +169,21 @@ Routed Api::route(const Request& request) {
   }
   if (path == "/healthz") {
     if (!get) return {"/healthz", method_not_allowed(request, "GET, HEAD")};
-    return {"/healthz", json_answer(request, http::status::ok, R"({"status":"ok"})")};
+    if (auto trouble = store_.health())
+      return {"/healthz", json_answer(request, http::status::service_unavailable,
+                                      R"({"status":"unavailable","store":)" +
+                                          nlohmann::json(valid_utf8(*trouble)).dump() + "}")};
+    return {"/healthz", json_answer(request, http::status::ok, R"({"status":"ok","store":"ok"})")};
   }
   if (path == "/metrics") {
     if (!get) return {"/metrics", method_not_allowed(request, "GET, HEAD")};
+    Metrics::Gauges gauges;
+    gauges.store_up = !store_.health();
+    if (gauges.store_up) gauges.jobs_by_state = store_.counts().jobs_by_state;
+    gauges.queue_capacity = store_.options().max_queue;
+    gauges.workers = workers_;
     return {"/metrics", answer(request, http::status::ok, "text/plain; version=0.0.4",
-                               metrics_.prometheus(queue_.gauges()))};
+                               metrics_.prometheus(gauges))};
   }
   if (path == "/v1/scenes") {
     if (!get) return {"/v1/scenes", method_not_allowed(request, "GET, HEAD")};
@@ -174,7 +191,7 @@ Routed Api::route(const Request& request) {
   }
   if (path == "/v1/jobs") {
     if (get)
-      return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(queue_.list()))};
+      return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(store_.list()))};
     if (method != http::verb::post)
       return {"/v1/jobs", method_not_allowed(request, "GET, HEAD, POST")};
     return {"/v1/jobs",
@@ -201,15 +218,15 @@ Routed Api::route(const Request& request) {
     return {"(unknown)", problem(request, http::status::not_found, "Not found",
                                  "no such resource: " + std::string(path))};
   const std::string id(parts[2]);
-  std::shared_ptr<Job> job = JobStore::is_valid_id(id) ? queue_.find(id) : nullptr;
+  const std::optional<JobRecord> found = is_valid_job_id(id) ? store_.find(id) : std::nullopt;
   const std::string sub = parts.size() > 3 ? std::string(parts[3]) : "";
   const std::string route = "/v1/jobs/{id}" + (sub.empty() ? "" : "/" + sub);
   auto not_found = [&] {
     return Routed{route, problem(request, http::status::not_found, "Not found",
                                  "no job with id \"" + id + "\"")};
   };
-  if (!job || parts.size() > 5 || (parts.size() == 5 && sub != "steps")) return not_found();
-  const JobRecord record = job->record();
+  if (!found || parts.size() > 5 || (parts.size() == 5 && sub != "steps")) return not_found();
+  const JobRecord& record = *found;
   auto not_done = [&](std::string_view what) {
     return Routed{route, problem(request, http::status::conflict, "Job not done",
                                  "job " + id + " is " + std::string(to_string(record.state)) +
@@ -220,12 +237,13 @@ Routed Api::route(const Request& request) {
     if (get) return {route, json_answer(request, http::status::ok, job_to_json(record))};
     if (method != http::verb::delete_)
       return {route, method_not_allowed(request, "GET, HEAD, DELETE")};
-    switch (queue_.cancel_or_delete(id)) {
-      case JobQueue::Removal::Cancelled:
-        return {route, json_answer(request, http::status::accepted, job_to_json(job->record()))};
-      case JobQueue::Removal::Deleted:
+    switch (store_.cancel_or_delete(id)) {
+      case Store::Removal::Cancelled:
+        return {route, json_answer(request, http::status::accepted,
+                                   job_to_json(store_.find(id).value_or(record)))};
+      case Store::Removal::Deleted:
         return {route, answer(request, http::status::no_content, "application/json", "")};
-      case JobQueue::Removal::Unknown:
+      case Store::Removal::Unknown:
         return not_found();
     }
   }
@@ -240,8 +258,12 @@ Routed Api::route(const Request& request) {
                                    }}};
   }
   if (!get) return {route, method_not_allowed(request, "GET, HEAD")};
-  if (sub == "stream") return {route, StreamRequest{job, StreamRequest::Kind::Images}};
-  if (sub == "events") return {route, StreamRequest{job, StreamRequest::Kind::Events}};
+  if (sub == "stream" || sub == "events") {
+    auto job = live_.watch(id);
+    if (!job) return not_found();
+    return {route, StreamRequest{job, sub == "stream" ? StreamRequest::Kind::Images
+                                                      : StreamRequest::Kind::Events}};
+  }
   auto step_answer = [&](int step, bool immutable) -> Routed {
     if (step < 1 || step > record.step)
       return {route, problem(request, http::status::not_found, "Not found",
@@ -252,7 +274,7 @@ Routed Api::route(const Request& request) {
                              "step " + std::to_string(step) + " is no longer kept (kept: " +
                                  std::to_string(record.first_kept_step) + ".." +
                                  std::to_string(record.step) + ")")};
-    auto png = JobStore::read(queue_.store().step_path(id, step));
+    auto png = store_.read_step(id, step);
     if (!png)
       return {route, problem(request, http::status::gone, "Step dropped",
                              "step " + std::to_string(step) + " is no longer kept")};
@@ -273,22 +295,23 @@ Routed Api::route(const Request& request) {
                         "step must be an integer (got \"" + std::string(*s) + "\")", "step")};
       return step_answer(*step, false);
     }
-    Job::View view = job->view();
-    if (!view.preview)
+    auto png = record.step > 0 ? store_.read_step(id, record.step) : std::nullopt;
+    if (!png)
       return {route, problem(request, http::status::not_found, "No preview yet",
                              "job " + id + " is " + std::string(to_string(record.state)) +
                                  " and has no refinement step yet")};
-    return {route, png_answer(request, *view.preview, view.record.step, false)};
+    return {route, png_answer(request, std::move(*png), record.step, false)};
   }
   if (sub == "scene") {
-    auto text = JobStore::read(queue_.store().scene_path(id));
+    auto text = store_.read(id, Artifact::Scene);
     if (!text) return not_found();
     return {route, json_answer(request, http::status::ok, std::move(*text))};
   }
   if (sub == "solution") {
     if (record.state != JobState::Done) return not_done("the solution file");
-    auto bytes = JobStore::read(queue_.store().solution_path(id));
+    auto bytes = store_.read(id, Artifact::Solution);
     if (!bytes) return not_found();
+    store_.touch(id);
     Response res = answer(request, http::status::ok, "application/octet-stream", std::move(*bytes));
     res.set(http::field::content_disposition, "attachment; filename=\"" + id + ".bumprad\"");
     return {route, std::move(res)};
@@ -301,15 +324,16 @@ Routed Api::route(const Request& request) {
                       "format must be png or exr (got \"" + std::string(format) + "\")", "format")};
     if (record.state != JobState::Done) return not_done("the final image");
     ImageFormat f = format == "png" ? ImageFormat::Png : ImageFormat::Exr;
-    auto bytes = JobStore::read(queue_.store().image_path(id, f));
+    auto bytes = store_.read(id, f == ImageFormat::Png ? Artifact::Png : Artifact::Exr);
     if (!bytes) return not_found();
+    store_.touch(id);
     return {route, answer(request, http::status::ok, mime_type(f), std::move(*bytes))};
   }
   return not_found();
 }
 
 Api::Accepted Api::accept(const Request& request) const {
-  JobRequest job_request = parse_job_request(request.body(), queue_.files());
+  JobRequest job_request = parse_job_request(request.body(), limits_.files);
   const bool inline_scene = job_request.scene_name == "inline";
   const CostEstimate cost = estimate_cost(job_request.scene);
   if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
@@ -343,12 +367,28 @@ Response Api::validate(const Request& request) {
 
 Response Api::submit(const Request& request) {
   try {
-    auto job = queue_.submit(accept(request).job);
-    Response res = json_answer(request, http::status::accepted, job_to_json(job->record()));
-    res.set(http::field::location, job_url(job->record().id));
+    const std::string_view key = request[kIdempotencyKey];
+    if (key.size() > 255 || key.find_first_not_of(kKeyCharacters) != std::string_view::npos)
+      return problem(request, http::status::bad_request, "Bad header",
+                     "Idempotency-Key must be 1 to 255 printable ASCII characters",
+                     kIdempotencyKey);
+    JobRequest job = accept(request).job;
+    JobRecord r;
+    r.id = new_job_id();
+    r.scene_name = job.scene_name;
+    r.created = unix_now();
+    r.max_shots = job.scene.solver.max_shots;
+    r.preview_every = job.scene.solver.preview_every;
+    const Store::Submitted submitted = store_.submit(r, job.scene_json, key);
+    Response res = json_answer(request, http::status::accepted, job_to_json(submitted.record));
+    res.set(http::field::location, job_url(submitted.record.id));
+    if (!submitted.created) res.set("Idempotent-Replayed", "true");
     return res;
   } catch (const SceneError& e) {
     return scene_problem(request, e);
+  } catch (const KeyReused& e) {
+    return problem(request, http::status::unprocessable_entity, "Idempotency-Key reused", e.what(),
+                   kIdempotencyKey);
   } catch (const QueueFull& e) {
     Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
     res.set(http::field::retry_after, "5");
@@ -366,10 +406,11 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
   Watchdog::Guard deadline(watchdog_, stop,
                            std::chrono::duration<double>(limits_.retexture_timeout_s));
   try {
-    auto solved = queue_.solution(id);
+    auto solved = solutions_.get(id);
     if (!solved)
       return problem(request, http::status::not_found, "Not found", "job " + id + " was deleted");
-    RetextureRequest r = parse_retexture_request(request.body(), solved->scene, queue_.files());
+    store_.touch(id);
+    RetextureRequest r = parse_retexture_request(request.body(), solved->scene, limits_.files);
     const CostEstimate cost = estimate_render_cost(r.scene);
     if (cost.render_s > limits_.max_retexture_seconds)
       throw SceneError("/camera", "this re-texture would take about " +

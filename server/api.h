@@ -11,8 +11,11 @@
 
 #include <boost/beast/http.hpp>
 
-#include "server/job_queue.h"
+#include "server/job.h"
+#include "server/live_jobs.h"
 #include "server/metrics.h"
+#include "server/solution_cache.h"
+#include "server/store.h"
 #include "server/watchdog.h"
 #include "solver/cost.h"
 
@@ -46,6 +49,7 @@ struct Routed {
 
 // What one request may cost: bodies, and the estimated and wall-clock seconds of work.
 struct ApiLimits {
+  ImageFiles files = ImageFiles::refused();  // image files scenes may name
   std::size_t body_limit = 8 << 20;
   double max_job_seconds = 600;       // estimated solve and final render (solver/cost.h)
   double max_retexture_seconds = 30;  // estimated render
@@ -54,8 +58,16 @@ struct ApiLimits {
 
 class Api {
  public:
-  Api(JobQueue& queue, Metrics& metrics, Watchdog& watchdog, ApiLimits limits)
-      : queue_(queue), metrics_(metrics), watchdog_(watchdog), limits_(limits) {}
+  // `workers`: solver threads in this process, for /metrics (0 on an API-only node).
+  Api(Store& store, LiveJobs& live, SolutionCache& solutions, Metrics& metrics, Watchdog& watchdog,
+      ApiLimits limits, std::size_t workers)
+      : store_(store),
+        live_(live),
+        solutions_(solutions),
+        metrics_(metrics),
+        watchdog_(watchdog),
+        limits_(std::move(limits)),
+        workers_(workers) {}
 
   // Never throws: every failure is a problem+json answer.
   Routed handle(const Request& request);
@@ -73,10 +85,13 @@ class Api {
   Response validate(const Request& request);
   Response submit(const Request& request);
   Response retexture(const Request& request, const std::string& id, std::stop_source stop);
-  JobQueue& queue_;
+  Store& store_;
+  LiveJobs& live_;
+  SolutionCache& solutions_;
   Metrics& metrics_;
   Watchdog& watchdog_;
   const ApiLimits limits_;
+  const std::size_t workers_;
 };
 
 // An RFC 9457 problem+json answer.

@@ -191,7 +191,7 @@ void HttpSession::pump() {
   }
   std::string bytes = watch_->stream.catch_up(watch_->job->view());
   if (!bytes.empty()) return write_stream(std::move(bytes));
-  if (watch_->stream.finished() || context_.shutdown.stop_requested()) return end_stream();
+  if (watch_->stream.finished() || shutting_down()) return end_stream();
   arm_heartbeat();
 }
 
@@ -215,10 +215,17 @@ void HttpSession::arm_heartbeat() {
   heartbeat_.expires_after(context_.heartbeat);
   heartbeat_.async_wait([self = shared_from_this(), beat](beast::error_code ec) {
     if (ec || !self->watch_ || self->watch_->writing) return;
-    if (self->context_.shutdown.stop_requested()) return self->end_stream();
+    if (self->shutting_down()) return self->end_stream();
     if (beat.empty()) return self->arm_heartbeat();
     self->write_stream(beat);
   });
+}
+
+bool HttpSession::shutting_down() const {
+  // A running job's stream waits for the job's own end (its worker stops within a shot and
+  // says interrupted); the grace period bounds the wait.
+  return context_.shutdown.stop_requested() &&
+         watch_->job->view().record.state != JobState::Running;
 }
 
 void HttpSession::end_stream() {

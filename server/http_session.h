@@ -15,9 +15,9 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 
+#include "common/stopwatch.h"
 #include "server/api.h"
 #include "server/step_stream.h"
-#include "solver/stopwatch.h"
 
 namespace bumprad {
 
@@ -62,6 +62,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void write_stream(std::string bytes);
   void arm_heartbeat();
   void end_stream();
+  bool shutting_down() const;
 
   beast::tcp_stream stream_;
   beast::flat_buffer buffer_;

@@ -1,12 +1,11 @@
-// One job's live state, shared by the worker that solves it and the connections that watch
-// it: its record, its newest preview, its stop signal, and whom to wake when they change.
+// One job's live state on this node, shared by the connections that watch it: its record,
+// its newest preview, and whom to wake when they change (live_jobs.h keeps it current).
 #pragma once
 
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <stop_token>
 #include <string>
 
 #include "protocol/api_json.h"
@@ -37,8 +36,6 @@ class Job {
   int watch(Watcher watcher);
   void unwatch(int id);
 
-  std::stop_source& stop() { return stop_; }
-
  private:
   void wake();
 
@@ -47,7 +44,6 @@ class Job {
   std::shared_ptr<const std::string> preview_;
   std::map<int, Watcher> watchers_;
   int next_watcher_ = 0;
-  std::stop_source stop_;
 };
 
 }  // namespace bumprad

@@ -26,19 +26,37 @@ void Metrics::count_shots(int shots, double seconds) {
   shot_seconds_ += seconds;
 }
 
+void Metrics::count_claim() {
+  std::lock_guard lock(mutex_);
+  ++claims_;
+}
+
+void Metrics::count_lease_renewal() {
+  std::lock_guard lock(mutex_);
+  ++lease_renewals_;
+}
+
 std::string Metrics::prometheus(const Gauges& g) const {
   std::lock_guard lock(mutex_);
   std::ostringstream out;
-  out << "# HELP bumprad_jobs Jobs known to the server, by state.\n# TYPE bumprad_jobs gauge\n";
+  out << "# HELP bumprad_store_up Whether the job store answers.\n# TYPE bumprad_store_up gauge\n"
+      << "bumprad_store_up " << (g.store_up ? 1 : 0) << "\n";
+  out << "# HELP bumprad_jobs Jobs in the store, by state.\n# TYPE bumprad_jobs gauge\n";
   for (std::size_t i = 0; i < g.jobs_by_state.size(); ++i)
     out << "bumprad_jobs{state=\"" << to_string(JobState(i)) << "\"} " << g.jobs_by_state[i]
         << "\n";
   out << "# HELP bumprad_queue_depth Jobs waiting for a worker.\n# TYPE bumprad_queue_depth "
          "gauge\nbumprad_queue_depth "
-      << g.queue_depth << "\n# HELP bumprad_queue_capacity Most jobs that may wait.\n"
+      << g.jobs_by_state[std::size_t(JobState::Queued)]
+      << "\n# HELP bumprad_queue_capacity Most jobs that may wait.\n"
       << "# TYPE bumprad_queue_capacity gauge\nbumprad_queue_capacity " << g.queue_capacity
-      << "\n# HELP bumprad_workers Solver threads.\n# TYPE bumprad_workers gauge\n"
+      << "\n# HELP bumprad_workers Solver threads in this process.\n# TYPE bumprad_workers gauge\n"
       << "bumprad_workers " << g.workers << "\n";
+  out << "# HELP bumprad_claims_total Jobs this process's workers claimed.\n"
+      << "# TYPE bumprad_claims_total counter\nbumprad_claims_total " << claims_ << "\n"
+      << "# HELP bumprad_lease_renewals_total Leases renewed at refinement steps.\n"
+      << "# TYPE bumprad_lease_renewals_total counter\nbumprad_lease_renewals_total "
+      << lease_renewals_ << "\n";
   out << "# HELP bumprad_shots_total Shots solved (rate() gives shots per second).\n"
       << "# TYPE bumprad_shots_total counter\nbumprad_shots_total " << shots_ << "\n"
       << "# HELP bumprad_shot_seconds_total Solver time spent on those shots.\n"

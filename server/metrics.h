@@ -1,5 +1,6 @@
 // Counters for GET /metrics in Prometheus' text format: requests and their latencies by
-// route and status, solver shots, and the job gauges the queue reports when asked.
+// route and status, solver shots, claims and lease renewals, and the gauges the store
+// reports when asked.
 #pragma once
 
 #include <array>
@@ -20,10 +21,13 @@ class Metrics {
   // `route` is the route's pattern ("/v1/jobs/{id}"), so labels stay few.
   void count_request(std::string_view method, std::string_view route, int status, double seconds);
   void count_shots(int shots, double seconds);
+  void count_claim();
+  void count_lease_renewal();
 
   struct Gauges {
     std::array<std::size_t, 6> jobs_by_state{};  // indexed by JobState
-    std::size_t queue_depth = 0, queue_capacity = 0, workers = 0;
+    std::size_t queue_capacity = 0, workers = 0;
+    bool store_up = true;
   };
   std::string prometheus(const Gauges& gauges) const;
 
@@ -36,7 +40,7 @@ class Metrics {
   mutable std::mutex mutex_;
   std::map<std::pair<std::string, std::string>, Latency> latency_;  // method, route
   std::map<std::tuple<std::string, std::string, int>, std::uint64_t> requests_;
-  std::uint64_t shots_ = 0;
+  std::uint64_t shots_ = 0, claims_ = 0, lease_renewals_ = 0;
   double shot_seconds_ = 0;
 };
 

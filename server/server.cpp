@@ -1,5 +1,8 @@
 #include "server/server.h"
 
+#include <pthread.h>
+
+#include <csignal>
 #include <cstdio>
 #include <thread>
 #include <vector>
@@ -12,14 +15,10 @@
 namespace bumprad {
 
 int run_server(const ServerOptions& options) {
-  JobStore store(options.data_dir);
-  Metrics metrics;
-  Watchdog watchdog;
-  JobQueue queue(store, metrics, watchdog, options.queue);
-  Api api(queue, metrics, watchdog, options.api);
+  Node node(options.node);
   net::thread_pool parse_pool(2);
   net::thread_pool render_pool(2);
-  SessionContext context{api, metrics, parse_pool, render_pool};
+  SessionContext context{node.api, node.metrics, parse_pool, render_pool};
   context.max_deferred = options.max_retextures;
   context.max_connections = options.max_connections;
 
@@ -28,8 +27,10 @@ int run_server(const ServerOptions& options) {
   auto listener =
       std::make_shared<Listener>(ioc, net::ip::tcp::endpoint{address, options.port}, context);
   listener->run();
-  std::printf("bumprad: listening on http://%s:%u (data in %s)\n", options.bind.c_str(),
-              unsigned(listener->port()), options.data_dir.c_str());
+  std::printf("bumprad: listening on http://%s:%u (%s)\n", options.bind.c_str(),
+              unsigned(listener->port()),
+              options.node.store_url.empty() ? ("data in " + options.node.data_dir.string()).c_str()
+                                             : "jobs in PostgreSQL");
   std::fflush(stdout);
 
   // Shutdown: stop accepting; stop the solver (running jobs become interrupted, which ends
@@ -49,7 +50,7 @@ int run_server(const ServerOptions& options) {
     context.shutdown.request_stop();  // re-textures stop within a row
     listener->stop();
     stopper = std::thread([&] {  // waiting for the workers must not block the network
-      queue.shutdown();
+      node.shutdown();
       net::post(ioc, [&] {
         deadline = std::chrono::steady_clock::now() + options.grace;
         wait_for_idle();
@@ -62,9 +63,27 @@ int run_server(const ServerOptions& options) {
   ioc.run();
   for (auto& t : threads) t.join();
   if (stopper.joinable()) stopper.join();
-  queue.shutdown();
+  node.shutdown();
   parse_pool.join();
   render_pool.join();
+  std::fprintf(stderr, "bumprad: stopped\n");
+  return 0;
+}
+
+int run_worker(const NodeOptions& options) {
+  // Blocked before the node starts its threads, so that only sigwait below takes them.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  Node node(options);
+  std::printf("bumprad: worker ready (%d solver threads)\n", options.workers);
+  std::fflush(stdout);
+  int signal = 0;
+  sigwait(&signals, &signal);
+  std::fprintf(stderr, "bumprad: signal %d, releasing running jobs\n", signal);
+  node.shutdown();
   std::fprintf(stderr, "bumprad: stopped\n");
   return 0;
 }

@@ -1,6 +1,6 @@
 #define GL_GLEXT_PROTOTYPES
 #include "solver/hemicube.h"
-#include "solver/stopwatch.h"
+#include "common/stopwatch.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -9,7 +9,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
-#include "solver/atomic_file.h"
+#include "common/atomic_file.h"
 
 namespace bumprad {
 
@@ -28,31 +28,6 @@ void Image::set(int x, int y, const Rgb& c) {
 double srgb_encode(double x) {
   x = std::clamp(x, 0.0, 1.0);
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
-}
-
-std::optional<ImageFormat> image_format_for(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-  if (ext == ".png") return ImageFormat::Png;
-  if (ext == ".exr") return ImageFormat::Exr;
-  if (ext == ".jpg" || ext == ".jpeg") return ImageFormat::Jpeg;
-  return std::nullopt;
-}
-
-std::string_view format_name(ImageFormat format) {
-  return format == ImageFormat::Png ? "png" : format == ImageFormat::Exr ? "exr" : "jpeg";
-}
-
-std::string_view mime_type(ImageFormat format) {
-  switch (format) {
-    case ImageFormat::Png:
-      return "image/png";
-    case ImageFormat::Exr:
-      return "image/x-exr";
-    case ImageFormat::Jpeg:
-      return "image/jpeg";
-  }
-  return "application/octet-stream";
 }
 
 std::string encode_image(const Image& image, ImageFormat format, double exposure) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "common/image_format.h"
 #include "solver/math.h"
 
 namespace bumprad {
@@ -23,17 +24,6 @@ struct Image {
 
 // Linear [0,1] to the sRGB transfer curve.
 double srgb_encode(double linear);
-
-// JPEG encodes several times faster than PNG: what interactive drafts are sent as.
-enum class ImageFormat { Png, Exr, Jpeg };
-
-// By extension (.png, .exr, .jpg or .jpeg, any case); nullopt for any other.
-std::optional<ImageFormat> image_format_for(const std::filesystem::path& path);
-
-// "png", "exr", "jpeg": the names requests use.
-std::string_view format_name(ImageFormat format);
-// "image/png", "image/x-exr", "image/jpeg".
-std::string_view mime_type(ImageFormat format);
 
 // The file's bytes: PNG and JPEG (quality 90) apply `exposure` and the sRGB curve; EXR keeps
 // linear radiance and ignores exposure. Files and HTTP bodies share this one encoder.

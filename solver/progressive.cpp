@@ -5,9 +5,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/stopwatch.h"
 #include "solver/form_factor_exact.h"
 #include "solver/lights.h"
-#include "solver/stopwatch.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {

@@ -1,7 +1,7 @@
 #include "solver/solution.h"
 
+#include "common/stopwatch.h"
 #include "solver/lights.h"
-#include "solver/stopwatch.h"
 #include "solver/subdivision.h"
 #include "solver/vertex_radiosity.h"
 #include "solver/view_pass.h"

@@ -10,4 +10,8 @@ namespace bumprad::test {
 // server kept beside it, DIR.log, removed).
 std::filesystem::path fresh_temp_dir(const std::string& prefix);
 
+// The whole file; throws std::runtime_error when it cannot be read.
+std::string read_file(const std::filesystem::path& path);
+void write_file(const std::filesystem::path& path, const std::string& bytes);
+
 }  // namespace bumprad::test

@@ -24,12 +24,15 @@ using json = nlohmann::json;
 
 ServerProcess::ServerProcess(const std::filesystem::path& data_dir,
                              const std::vector<std::string>& args,
-                             const std::vector<std::string>& prefix)
+                             const std::vector<std::string>& prefix, const std::string& command)
     : log_(data_dir.string() + ".log") {
   std::vector<std::string> argv = prefix;
-  for (std::string a : {std::string(BUMPRAD_BIN), std::string("serve"), std::string("--port"),
-                        std::string("0"), std::string("--data-dir"), data_dir.string()})
-    argv.push_back(a);
+  argv.push_back(BUMPRAD_BIN);
+  argv.push_back(command);
+  if (command == "serve")
+    for (std::string a :
+         {std::string("--port"), std::string("0"), std::string("--data-dir"), data_dir.string()})
+      argv.push_back(a);
   argv.insert(argv.end(), args.begin(), args.end());
   std::vector<char*> c_argv;
   for (auto& a : argv) c_argv.push_back(a.data());
@@ -62,6 +65,7 @@ ServerProcess::ServerProcess(const std::filesystem::path& data_dir,
     if (n <= 0) throw std::runtime_error("the server exited at start: " + log());
     line.append(buf, std::size_t(n));
   }
+  if (command != "serve") return;  // "bumprad: worker ready ..."
   auto colon = line.find(':', line.find("127.0.0.1"));
   port_ = static_cast<unsigned short>(std::stoi(line.substr(colon + 1)));
 }

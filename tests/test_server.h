@@ -15,9 +15,11 @@ namespace bumprad::test {
 class ServerProcess {
  public:
   // Starts `bumprad serve --port 0 --data-dir DATA ARGS...` and waits until it listens;
-  // `prefix` runs it through another program (e.g. {"prlimit", "--nofile=64"}).
+  // `prefix` runs it through another program (e.g. {"prlimit", "--nofile=64"}). With
+  // `command` "worker": `bumprad worker ARGS...`, until it says it is ready (no port; its
+  // log is DATA.log).
   ServerProcess(const std::filesystem::path& data_dir, const std::vector<std::string>& args = {},
-                const std::vector<std::string>& prefix = {});
+                const std::vector<std::string>& prefix = {}, const std::string& command = "serve");
   ~ServerProcess();  // SIGKILL if it still runs
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;

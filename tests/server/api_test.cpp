@@ -72,7 +72,7 @@ TEST(Api, InternalErrorsTellNothingOfTheServer) {
   }
   // A damaged solution file on disk, and no copy in memory.
   test::InProcessServer restarted(dir);
-  std::filesystem::resize_file(restarted.store.solution_path(id), 100);
+  std::filesystem::resize_file(restarted.store.path(id, Artifact::Solution), 100);
   Response r = restarted.answer(request(verb::post, "/v1/jobs/" + id + "/retexture", "{}"));
   EXPECT_EQ(r.result_int(), 500);
   EXPECT_EQ(detail(r), "the server could not answer this request; its log says why");
@@ -96,7 +96,7 @@ TEST(Api, ValidationExamplesDraftsAndDownloads) {
   EXPECT_EQ(v["valid"], true);
   EXPECT_GT(v["estimate"]["solve_s"].get<double>(), 0);
   EXPECT_EQ(v["estimate"]["limit_s"], 600);
-  EXPECT_TRUE(s.queue.list().empty()) << "validating queues nothing";
+  EXPECT_TRUE(s.store.list().empty()) << "validating queues nothing";
   json bad = json::parse(test::small_job_json(5, 5));
   bad["scene"]["objects"][2]["size"][1] = 0;
   Response invalid = s.answer(request(verb::post, "/v1/validate", bad.dump()));
@@ -113,7 +113,7 @@ TEST(Api, ValidationExamplesDraftsAndDownloads) {
   s.wait_for(id, JobState::Done);
   Response solution = s.answer(request(verb::get, "/v1/jobs/" + id + "/solution"));
   ASSERT_EQ(solution.result_int(), 200);
-  EXPECT_EQ(solution.body(), *JobStore::read(s.store.solution_path(id)));
+  EXPECT_EQ(solution.body(), *s.store.read(id, Artifact::Solution));
   EXPECT_NE(solution[http::field::content_disposition].find(id + ".bumprad"), std::string::npos);
   Response draft = s.answer(request(verb::post, "/v1/jobs/" + id + "/retexture",
                                     R"({"quality": "draft", "format": "jpeg"})"));

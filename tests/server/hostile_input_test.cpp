@@ -86,7 +86,7 @@ TEST(HostileInput, PipelinedRequestsAreAllAnsweredInOrder) {
   auto replies = test::split_responses(raw.read_all());
   ASSERT_EQ(replies.size(), 4u);
   EXPECT_EQ(replies[0].status, 200);
-  EXPECT_EQ(replies[0].body, "{\"status\":\"ok\"}");
+  EXPECT_EQ(replies[0].body, "{\"status\":\"ok\",\"store\":\"ok\"}");
   EXPECT_EQ(replies[1].status, 404);
   EXPECT_EQ(replies[2].status, 422);
   EXPECT_EQ(replies[3].status, 200);
@@ -111,7 +111,7 @@ TEST(HostileInput, HeadAnswersAsGetWithoutTheBody) {
   EXPECT_EQ(replies[0].body, "") << "no body came after the head";
   EXPECT_EQ(replies[1].status, 404);
   EXPECT_EQ(replies[2].status, 200);
-  EXPECT_EQ(replies[2].body, "{\"status\":\"ok\"}");
+  EXPECT_EQ(replies[2].body, "{\"status\":\"ok\",\"store\":\"ok\"}");
 }
 
 std::string submit(const HttpClient& c, const std::string& body) {

@@ -1,0 +1,209 @@
+// The PostgreSQL store against a real PostgreSQL that the test starts itself: nodes that
+// share one database (an API-only node and a worker node in process), leases that expire,
+// cancels that reach the worker, workers that stop, idempotent retries across nodes; then
+// the real binaries: two API nodes and three worker processes, 100 jobs, a worker killed
+// with SIGKILL mid-job, every job done exactly once.
+#include "server/postgres_store.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <memory>
+#include <set>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "server/node.h"
+#include "tests/postgres_cluster.h"
+#include "tests/server/in_process.h"
+#include "tests/test_files.h"
+#include "tests/test_server.h"
+
+namespace bumprad {
+namespace {
+
+using test::request;
+using verb = http::verb;
+using json = nlohmann::json;
+
+class Postgres : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { cluster_ = new test::PostgresCluster(); }
+  static void TearDownTestSuite() {
+    delete cluster_;
+    cluster_ = nullptr;
+  }
+
+  // A fresh database named for the test.
+  static std::string fresh_database() {
+    std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::transform(name.begin(), name.end(), name.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return cluster_->create_database(name.substr(0, 60));
+  }
+
+  static NodeOptions node(const std::string& url, int workers) {
+    NodeOptions o;
+    o.store_url = url;
+    o.workers = workers;
+    return o;
+  }
+
+  static test::PostgresCluster* cluster_;
+};
+
+test::PostgresCluster* Postgres::cluster_ = nullptr;
+
+Response answer(Node& node, const Request& r) {
+  Routed routed = node.api.handle(r);
+  if (auto* res = std::get_if<Response>(&routed.action)) return *res;
+  if (auto* d = std::get_if<DeferredRequest>(&routed.action)) return d->work(r, {});
+  throw std::logic_error("a stream, not an answer");
+}
+
+std::string submit(Node& node, const std::string& body, const std::string& key = {}) {
+  Request r = request(verb::post, "/v1/jobs", body);
+  if (!key.empty()) r.set("Idempotency-Key", key);
+  Response res = answer(node, r);
+  if (res.result_int() != 202) throw std::runtime_error("submit: " + res.body());
+  return job_from_json(res.body()).id;
+}
+
+TEST_F(Postgres, AnApiNodeServesWhatAWorkerNodeSolves) {
+  const std::string url = fresh_database();
+  Node api(node(url, 0));
+  Node worker(node(url, 1));
+  EXPECT_EQ(answer(api, request(verb::get, "/healthz")).body(), R"({"status":"ok","store":"ok"})");
+
+  const std::string id = submit(api, test::small_job_json(5, 2));
+  // The API node streams what the worker node solves, through LISTEN/NOTIFY.
+  auto live = api.live.watch(id);
+  ASSERT_NE(live, nullptr);
+  test::wait_for(*api.store, id, JobState::Done);
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (live->view().record.state != JobState::Done && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  Job::View view = live->view();
+  EXPECT_EQ(view.record.state, JobState::Done);
+  ASSERT_NE(view.preview, nullptr);
+  EXPECT_EQ(*view.preview, *api.store->read_step(id, view.record.step)) << "the final image";
+
+  Response image = answer(api, request(verb::get, "/v1/jobs/" + id + "/image"));
+  EXPECT_EQ(image.result_int(), 200);
+  EXPECT_EQ(image.body(), *worker.store->read(id, Artifact::Png));
+  Response retexture = answer(api, request(verb::post, "/v1/jobs/" + id + "/retexture", "{}"));
+  EXPECT_EQ(retexture.result_int(), 200) << retexture.body();
+  EXPECT_EQ(answer(api, request(verb::delete_, "/v1/jobs/" + id)).result_int(), 204);
+  EXPECT_EQ(answer(worker, request(verb::get, "/v1/jobs/" + id)).result_int(), 404);
+  // A third node finds the schema in place and migrates nothing.
+  PostgresStore again(url, {});
+  EXPECT_FALSE(again.health());
+  EXPECT_EQ(PostgresStore::schema_version(), 1);
+}
+
+TEST_F(Postgres, ARetriedSubmissionGetsTheSameJobOnAnyNode) {
+  const std::string url = fresh_database();
+  Node a(node(url, 0)), b(node(url, 0));
+  const std::string first = submit(a, test::small_job_json(5, 5), "retry-1");
+  EXPECT_EQ(submit(b, test::small_job_json(5, 5), "retry-1"), first);
+  Request other = request(verb::post, "/v1/jobs", test::small_job_json(6, 5));
+  other.set("Idempotency-Key", "retry-1");
+  EXPECT_EQ(answer(b, other).result_int(), 422);
+  EXPECT_EQ(a.store->list().size(), 1u);
+}
+
+TEST_F(Postgres, AnExpiredLeaseRunsTheJobAgainUpToTheAttemptLimit) {
+  const std::string url = fresh_database();
+  PostgresStore store(url, {}, {.lease_s = 0.3, .max_attempts = 2});
+  JobRecord r;
+  r.id = new_job_id();
+  r.created = 1;
+  store.submit(r, test::small_scene_json(5), "");
+  // A worker that claims and vanishes.
+  auto first = store.claim("lost/0");
+  ASSERT_TRUE(first);
+  EXPECT_FALSE(store.claim("other/0")) << "a job never runs twice at once";
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  auto second = store.claim("other/0");
+  ASSERT_TRUE(second) << "the lease expired; the job runs again";
+  EXPECT_EQ(second->record.id, r.id);
+  JobRecord progress = second->record;
+  EXPECT_EQ(store.progress("lost/0", progress, ""), Store::Lease::Lost)
+      << "the first worker, back, may not write";
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  EXPECT_FALSE(store.claim("third/0"));
+  JobRecord failed = *store.find(r.id);
+  EXPECT_EQ(failed.state, JobState::Failed);
+  EXPECT_NE(failed.error.find("2 attempts"), std::string::npos) << failed.error;
+}
+
+TEST_F(Postgres, ACancelReachesTheWorkerAndAStoppingWorkerReturnsItsJob) {
+  const std::string url = fresh_database();
+  Node api(node(url, 0));
+  std::string id;
+  {
+    Node worker(node(url, 1));
+    id = submit(api, test::small_job_json(0, 5, true));
+    test::wait_for(*api.store, id, JobState::Running);
+  }  // the worker stops: the job goes back to the queue
+  EXPECT_EQ(api.store->find(id)->state, JobState::Queued);
+  Node next(node(url, 1));
+  test::wait_for(*api.store, id, JobState::Running);
+  const auto asked = std::chrono::steady_clock::now();
+  EXPECT_EQ(answer(api, request(verb::delete_, "/v1/jobs/" + id)).result_int(), 202);
+  test::wait_for(*api.store, id, JobState::Cancelled, 5);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count(), 2);
+}
+
+// The real binaries: two API nodes, three worker processes, 100 jobs; one worker is killed
+// with SIGKILL while it solves. Every job ends done, once: one result each.
+TEST_F(Postgres, ManyJobsOnTwoApiNodesAndThreeWorkersSurviveAKilledWorker) {
+  const std::string url = fresh_database();
+  const auto dir = test::fresh_temp_dir("pg");
+  const std::vector<std::string> store = {"--store", url, "--lease", "2", "--max-queue", "200"};
+  test::ServerProcess api1(dir / "api1", store), api2(dir / "api2", store);
+  std::vector<std::unique_ptr<test::ServerProcess>> workers;
+  for (int i = 0; i < 3; ++i)
+    workers.push_back(std::make_unique<test::ServerProcess>(
+        dir / ("worker" + std::to_string(i)), store, std::vector<std::string>{}, "worker"));
+  // One job that runs until the worker holding it is killed, and 99 small ones.
+  std::vector<std::string> ids;
+  auto post = [&](const test::ServerProcess& api, const std::string& body) {
+    HttpResponse res = api.client().request("POST", "/v1/jobs", body);
+    EXPECT_EQ(res.status, 202) << res.body;
+    ids.push_back(json::parse(res.body)["id"]);
+  };
+  json long_job = json::parse(test::small_job_json(0, 5, true));
+  long_job["scene"]["solver"]["max_shots"] = 3000;
+  post(api1, long_job.dump());
+  for (int i = 0; i < 99; ++i) post(i % 2 ? api1 : api2, test::small_job_json(3, 3));
+  // Kill whichever worker holds the long job.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  std::string holder;
+  while (holder.empty() && std::chrono::steady_clock::now() < deadline) {
+    json job = json::parse(api2.client().get("/v1/jobs/" + ids[0]).body);
+    if (job["state"] == "running" && job["step"].get<int>() >= 1) {
+      for (int i = 0; i < 3; ++i)
+        if (workers[std::size_t(i)]->log().find(ids[0]) != std::string::npos)
+          holder = std::to_string(i);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_FALSE(holder.empty()) << "no worker took the long job";
+  workers[std::size_t(std::stoi(holder))]->kill_hard();
+  for (const std::string& id : ids) {
+    json done = json::parse(test::wait_for_job(api2.client(), id, {"done", "failed"}, 120));
+    EXPECT_EQ(done["state"], "done") << done.dump();
+  }
+  PostgresStore check(url, {});
+  std::set<std::string> distinct(ids.begin(), ids.end());
+  EXPECT_EQ(distinct.size(), 100u);
+  for (const std::string& id : ids) EXPECT_TRUE(check.read(id, Artifact::Png));
+  EXPECT_EQ(check.counts().jobs_by_state[std::size_t(JobState::Done)], 100u);
+}
+
+}  // namespace
+}  // namespace bumprad
