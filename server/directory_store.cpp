@@ -248,7 +248,7 @@ Store::Submitted DirectoryStore::submit(const JobRecord& record, std::string_vie
     done_pending();
     throw;
   }
-  {
+  {  // in one step, so a retry always finds the key: pending, or on the job
     std::lock_guard lock(mutex_);
     --pending_;
     pending_keys_.erase(key);
@@ -426,20 +426,6 @@ Store::Removal DirectoryStore::cancel_or_delete(const std::string& id) {
       std::fprintf(stderr, "job %s deleted\n", id.c_str());
       return Removal::Deleted;
   }
-}
-
-void DirectoryStore::subscribe(std::function<void(const JobEvent&)> listener) {
-  std::lock_guard lock(mutex_);
-  listeners_.push_back(std::move(listener));
-}
-
-void DirectoryStore::emit(const JobEvent& event) {
-  std::vector<std::function<void(const JobEvent&)>> listeners;
-  {
-    std::lock_guard lock(mutex_);
-    listeners = listeners_;
-  }
-  for (const auto& l : listeners) l(event);
 }
 
 Store::Counts DirectoryStore::counts() {

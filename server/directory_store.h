@@ -39,7 +39,6 @@ class DirectoryStore : public Store {
   bool finish(const std::string& worker, const JobRecord& record, const Results* results) override;
   void release(const std::string& worker, const JobRecord& record) override;
   Removal cancel_or_delete(const std::string& id) override;
-  void subscribe(std::function<void(const JobEvent&)> listener) override;
   Counts counts() override;
   std::optional<std::string> health() override;
   const StoreOptions& options() const override { return options_; }
@@ -64,7 +63,6 @@ class DirectoryStore : public Store {
   // With mutex_ held: the finished jobs past the retention limits, forgotten here; their
   // files are the caller's to remove once the lock is released.
   std::vector<std::string> evict();
-  void emit(const JobEvent& event);
 
   const std::filesystem::path jobs_;
   const StoreOptions options_;
@@ -77,7 +75,6 @@ class DirectoryStore : public Store {
   std::map<std::string, std::pair<JobRecord, std::string>> pending_keys_;
   std::size_t pending_ = 0;
   Retention retention_;
-  std::vector<std::function<void(const JobEvent&)>> listeners_;
 };
 
 }  // namespace bumprad

@@ -178,20 +178,6 @@ void PostgresStore::listen() {
   }
 }
 
-void PostgresStore::subscribe(std::function<void(const JobEvent&)> listener) {
-  std::lock_guard lock(listeners_mutex_);
-  listeners_.push_back(std::move(listener));
-}
-
-void PostgresStore::emit(const JobEvent& event) {
-  std::vector<std::function<void(const JobEvent&)>> listeners;
-  {
-    std::lock_guard lock(listeners_mutex_);
-    listeners = listeners_;
-  }
-  for (const auto& l : listeners) l(event);
-}
-
 Store::Submitted PostgresStore::submit(const JobRecord& record, std::string_view scene_json,
                                        std::string_view idempotency_key) {
   return in_transaction(*pool_, [&](pqxx::work& tx) -> Submitted {

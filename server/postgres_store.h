@@ -43,7 +43,6 @@ class PostgresStore : public Store {
   bool finish(const std::string& worker, const JobRecord& record, const Results* results) override;
   void release(const std::string& worker, const JobRecord& record) override;
   Removal cancel_or_delete(const std::string& id) override;
-  void subscribe(std::function<void(const JobEvent&)> listener) override;
   Counts counts() override;
   std::optional<std::string> health() override;
   const StoreOptions& options() const override { return options_; }
@@ -54,15 +53,12 @@ class PostgresStore : public Store {
  private:
   class Pool;
   void listen();
-  void emit(const JobEvent& event);
 
   const StoreOptions options_;
   const PostgresOptions pg_;
   const std::string url_;
   std::unique_ptr<Pool> pool_;
 
-  std::mutex listeners_mutex_;
-  std::vector<std::function<void(const JobEvent&)>> listeners_;
   std::atomic<bool> stopping_{false};
   std::thread listener_;
 };

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -108,7 +109,7 @@ class Store {
 
   // Calls `listener` for every event from now on, on the thread that made it or one of the
   // store's own. It must not block.
-  virtual void subscribe(std::function<void(const JobEvent&)> listener) = 0;
+  void subscribe(std::function<void(const JobEvent&)> listener);
 
   struct Counts {
     std::array<std::size_t, 6> jobs_by_state{};  // indexed by JobState
@@ -117,6 +118,14 @@ class Store {
   // Whether the store answers; a line saying why not.
   virtual std::optional<std::string> health() = 0;
   virtual const StoreOptions& options() const = 0;
+
+ protected:
+  // Hands `event` to every listener, outside the lock that guards the list.
+  void emit(const JobEvent& event);
+
+ private:
+  std::mutex listeners_mutex_;
+  std::vector<std::function<void(const JobEvent&)>> listeners_;
 };
 
 // A fresh random job id (16 hex digits); is_valid_job_id() refuses anything else, so no id
