@@ -1,8 +1,9 @@
 // The PostgreSQL store against a real PostgreSQL that the test starts itself: nodes that
 // share one database (an API-only node and a worker node in process), leases that expire,
 // cancels that reach the worker, workers that stop, idempotent retries across nodes; then
-// the real binaries: two API nodes and three worker processes, 100 jobs, a worker killed
-// with SIGKILL mid-job, every job done exactly once.
+// the real binaries: two API nodes and three worker processes, 100 jobs, one API node
+// streaming over HTTP what another process solves, an API node and a worker killed with
+// SIGKILL mid-job, every job done exactly once.
 #include "server/postgres_store.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "clients/event_stream.h"
 #include "server/node.h"
 #include "tests/postgres_cluster.h"
 #include "tests/server/in_process.h"
@@ -158,9 +160,11 @@ TEST_F(Postgres, ACancelReachesTheWorkerAndAStoppingWorkerReturnsItsJob) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count(), 2);
 }
 
-// The real binaries: two API nodes, three worker processes, 100 jobs; one worker is killed
-// with SIGKILL while it solves. Every job ends done, once: one result each.
-TEST_F(Postgres, ManyJobsOnTwoApiNodesAndThreeWorkersSurviveAKilledWorker) {
+// The real binaries: two API nodes, three worker processes, 100 jobs. api2 streams events
+// over HTTP of a job that a worker process solves; then api1 (which took half the jobs) and
+// the worker holding that job are killed with SIGKILL. Every job ends done, once: one
+// result each.
+TEST_F(Postgres, ManyJobsOnTwoApiNodesAndThreeWorkersSurviveKilledNodes) {
   const std::string url = fresh_database();
   const auto dir = test::fresh_temp_dir("pg");
   const std::vector<std::string> store = {"--store", url, "--lease", "2", "--max-queue", "200"};
@@ -180,6 +184,22 @@ TEST_F(Postgres, ManyJobsOnTwoApiNodesAndThreeWorkersSurviveAKilledWorker) {
   long_job["scene"]["solver"]["max_shots"] = 3000;
   post(api1, long_job.dump());
   for (int i = 0; i < 99; ++i) post(i % 2 ? api1 : api2, test::small_job_json(3, 3));
+  // api2 streams the long job's steps as a worker process solves it (LISTEN/NOTIFY).
+  EventStreamParser parser;
+  std::vector<ServerEvent> events;
+  HttpResponse head = api2.client().stream("/v1/jobs/" + ids[0] + "/events", [&](auto bytes) {
+    for (auto& e : parser.feed(bytes)) events.push_back(e);
+    return events.size() < 3;  // the first state, then two steps
+  });
+  EXPECT_EQ(head.status, 200);
+  ASSERT_EQ(events.size(), 3u);
+  EXPECT_EQ(events[0].name, "state");
+  EXPECT_EQ(events[1].name, "step");
+  EXPECT_EQ(events[2].name, "step");
+  EXPECT_LT(json::parse(events[1].data)["step"].get<int>(),
+            json::parse(events[2].data)["step"].get<int>());
+  // An API node holds nothing a job needs: kill it with jobs it took still queued.
+  api1.kill_hard();
   // Kill whichever worker holds the long job.
   auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   std::string holder;
