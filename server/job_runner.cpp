@@ -15,6 +15,9 @@ namespace {
 // Draft previews take at most this share of a job's time: a step that comes sooner shows
 // in the next preview.
 constexpr double kPreviewShare = 0.25;
+// A step without a preview reaches the store at most this often: a lease (seconds long) and a
+// progress bar need no more, and in a farm the database takes every worker's writes.
+constexpr double kProgressInterval = 0.1;
 
 }  // namespace
 
@@ -47,8 +50,11 @@ void JobRunner::run(const std::string& worker, const Claim& claim, std::stop_sou
     int last_shots = 0;
     double drafts_s = 0;  // inside the solve's wall time, reported apart
     auto last_step = started;
-    // Every step renews the lease; a step with a preview stores it and wakes the watchers.
+    // A step renews the lease; a step with a preview stores it and wakes the watchers.
+    auto last_write = started;
     auto report = [&](const std::string& png) {
+      if (png.empty() && seconds_since(last_write) < kProgressInterval) return;
+      last_write = Clock::now();
       switch (store_.progress(worker, record, png)) {
         case Store::Lease::Held:
           metrics_.count_lease_renewal();

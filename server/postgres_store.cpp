@@ -346,7 +346,7 @@ bool PostgresStore::finish(const std::string& worker, const JobRecord& final_rec
                            const Results* results) {
   JobRecord r = final_record;
   r.finished = unix_now();
-  return in_transaction(*pool_, [&](pqxx::work& tx) {
+  const bool done = in_transaction(*pool_, [&](pqxx::work& tx) {
     pqxx::result held = tx.exec_params(
         "UPDATE jobs SET state = $3, record = $4, worker = NULL, lease_until = NULL, "
         "last_used = $5 WHERE id = $1 AND worker = $2 AND state = 'running' RETURNING id",
@@ -363,7 +363,19 @@ bool PostgresStore::finish(const std::string& worker, const JobRecord& final_rec
         "WHERE job_id = $1), 0) WHERE id = $1",
         r.id);
     notify(tx, "changed", r.id);
-    // Retention: the least recently used finished jobs past either limit.
+    return true;
+  });
+  if (done && unix_now() >= next_sweep_) {
+    next_sweep_ = unix_now() + pg_.retention_interval_s;
+    sweep();
+  }
+  return done;
+}
+
+void PostgresStore::sweep() {
+  // Retention: the least recently used finished jobs past either limit. The query reads
+  // every kept job, hence at most one sweep per retention_interval_s, not one per finish.
+  in_transaction(*pool_, [&](pqxx::work& tx) {
     tx.exec_params(
         "DELETE FROM jobs WHERE id IN (SELECT id FROM (SELECT id, "
         "row_number() OVER (ORDER BY last_used DESC) AS n, "
@@ -372,7 +384,6 @@ bool PostgresStore::finish(const std::string& worker, const JobRecord& final_rec
         static_cast<long long>(options_.retention.max_jobs),
         static_cast<long long>(
             std::min<std::uintmax_t>(options_.retention.max_bytes, std::uintmax_t(1) << 62)));
-    return true;
   });
 }
 

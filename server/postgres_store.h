@@ -20,6 +20,9 @@ namespace bumprad {
 struct PostgresOptions {
   double lease_s = 30;   // a worker that renews nothing for this long loses its job
   int max_attempts = 3;  // claims of one job before it fails for good
+  // Finished jobs past the retention limits go in a sweep after a finish, at most this often
+  // per process (a sweep reads every kept job).
+  double retention_interval_s = 1;
 };
 
 class PostgresStore : public Store {
@@ -53,12 +56,14 @@ class PostgresStore : public Store {
  private:
   class Pool;
   void listen();
+  void sweep();
 
   const StoreOptions options_;
   const PostgresOptions pg_;
   const std::string url_;
   std::unique_ptr<Pool> pool_;
 
+  std::atomic<double> next_sweep_{0};  // unix time
   std::atomic<bool> stopping_{false};
   std::thread listener_;
 };

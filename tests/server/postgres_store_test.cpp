@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/event_stream.h"
+#include "common/stopwatch.h"
 #include "server/node.h"
 #include "tests/postgres_cluster.h"
 #include "tests/server/in_process.h"
@@ -140,6 +141,31 @@ TEST_F(Postgres, AnExpiredLeaseRunsTheJobAgainUpToTheAttemptLimit) {
   JobRecord failed = *store.find(r.id);
   EXPECT_EQ(failed.state, JobState::Failed);
   EXPECT_NE(failed.error.find("2 attempts"), std::string::npos) << failed.error;
+}
+
+TEST_F(Postgres, RetentionEvictsTheLeastRecentlyUsedFinishedJobs) {
+  StoreOptions options;
+  options.retention.max_jobs = 2;
+  PostgresStore store(fresh_database(), options, {.retention_interval_s = 0});
+  auto run = [&] {
+    JobRecord r;
+    r.id = new_job_id();
+    r.created = unix_now();
+    store.submit(r, test::small_scene_json(5), "");
+    auto claim = store.claim("w/0");
+    EXPECT_TRUE(claim);
+    claim->record.state = JobState::Done;
+    const Results results{"png", "exr", "solution"};
+    EXPECT_TRUE(store.finish("w/0", claim->record, &results));
+    return r.id;
+  };
+  const std::string first = run(), second = run();
+  store.touch(first);  // now the second is the least recently used
+  const std::string third = run();
+  EXPECT_TRUE(store.find(first));
+  EXPECT_FALSE(store.find(second));
+  EXPECT_FALSE(store.read(second, Artifact::Png)) << "its results go with it";
+  EXPECT_EQ(store.read(third, Artifact::Png), "png");
 }
 
 TEST_F(Postgres, ACancelReachesTheWorkerAndAStoppingWorkerReturnsItsJob) {
