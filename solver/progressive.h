@@ -134,7 +134,10 @@ class ProgressiveSolver {
   std::vector<Rgb> direct_;                 // per element, see direct()
   std::vector<double> patch_unshot_power_;  // A * (dB.r + dB.g + dB.b), per patch
   Rgb emitted_{0}, absorbed_{0}, escaped_{0};
-  Rgb ambient_factor_{0};  // 1 / (1 - area-weighted mean reflectance)
+  Rgb mean_reflectance_{0};  // area-weighted
+  // Reflected (not emitted) power shot so far, and the part of it that left the scene:
+  // channel sums, for the ambient term's escape fraction.
+  double reflected_shot_ = 0, reflected_escaped_ = 0;
   double total_area_ = 0;
   int shots_ = 0;
   std::mt19937 rng_;

@@ -67,6 +67,34 @@ TEST(ViewPass, ShowsRadiosityOverPiWithLinearRamp) {
   EXPECT_EQ(img.at(0, 0).r, 0.0f);  // beyond the quad: a miss
 }
 
+// A pixel that an edge along the image's axes crosses shows the share of it the surface
+// covers: with n x n samples a pixel, within 1 / (2 n^2) (n^2 distinct sample columns and
+// rows), where a plain grid of n columns is off by up to 1 / (2 n).
+TEST(ViewPass, AntialiasingCoversEdgesAlongTheAxesInFineSteps) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  const std::vector<Rgb> b(2, Rgb(std::numbers::pi));  // radiance 1 on the quad
+  double worst = 0;
+  for (int k = 0; k < 16; ++k) {
+    Camera cam = facing(3 + 0.037 * k);  // the edges fall elsewhere in their pixels
+    cam.antialias = 4;
+    Image img = render_view(m, rays, cam, b);
+    PinholeCamera pin(cam);
+    // On the plane z = 0, world x (and y) is linear in the image coordinate.
+    auto world = [&](double u, double v) {
+      Ray r = pin.ray(u, v);
+      double t = -r.origin.z / r.direction.z;
+      return Vec3(r.origin + t * r.direction);
+    };
+    const double du = world(1, 0).x - world(0, 0).x, dv = world(0, 1).y - world(0, 0).y;
+    const double u_edge = (2 - world(0, 0).x) / du, v_edge = (1 - world(0, 0).y) / dv;
+    const int column = int(u_edge), row = int(v_edge);  // the pixels the right, top edge cross
+    worst = std::max(worst, std::abs(img.at(column, cam.height / 2).r - (u_edge - column)));
+    worst = std::max(worst, std::abs(img.at(cam.width / 2, row).r - (row + 1 - v_edge)));
+  }
+  EXPECT_LT(worst, 1.0 / 32 + 1e-4);
+}
+
 TEST(ViewPass, CheckerScalesTheReflectedRadiosityByRhoOverItsMean) {
   Mesh m = two_element_quad();
   RayScene rays(m);
