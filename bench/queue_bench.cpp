@@ -14,6 +14,7 @@
 //    time until all are done: jobs per minute.
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -36,10 +37,20 @@
 namespace bumprad {
 namespace {
 
-std::vector<int> parse_list(const std::string& text) {
+// A whole number of at least 1 for `flag`; std::invalid_argument naming it otherwise.
+int positive(const std::string& flag, const std::string& text) {
+  int n = 0;
+  auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
+  if (error != std::errc() || end != text.data() + text.size() || n < 1)
+    throw std::invalid_argument(flag + ": expected a whole number of at least 1, got \"" + text +
+                                "\"");
+  return n;
+}
+
+std::vector<int> parse_list(const std::string& flag, const std::string& text) {
   std::vector<int> out;
   std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) out.push_back(std::max(1, std::stoi(item)));
+  for (std::string item; std::getline(in, item, ',');) out.push_back(positive(flag, item));
   return out;
 }
 
@@ -103,6 +114,7 @@ void dispatch(const std::string& url, int jobs, int claimers, const Results& res
     nodes.push_back(std::make_unique<PostgresStore>(url, roomy(std::size_t(jobs))));
   using Times = std::vector<std::vector<double>>;  // per thread
   Times claim_s(nodes.size()), renew_s(nodes.size()), finish_s(nodes.size());
+  std::atomic<long> done{0};  // this run's jobs (a shared --store may hold others)
   t = Clock::now();
   std::vector<std::thread> threads;
   for (int k = 0; k < claimers; ++k)
@@ -119,7 +131,7 @@ void dispatch(const std::string& url, int jobs, int claimers, const Results& res
         renew_s[i].push_back(seconds_since(c));
         claim->record.state = JobState::Done;
         c = Clock::now();
-        nodes[i]->finish(worker, claim->record, &results);
+        if (nodes[i]->finish(worker, claim->record, &results)) ++done;
         finish_s[i].push_back(seconds_since(c));
       }
     });
@@ -130,7 +142,6 @@ void dispatch(const std::string& url, int jobs, int claimers, const Results& res
     for (const auto& p : parts) v.insert(v.end(), p.begin(), p.end());
     return v;
   };
-  const std::size_t done = submitter.counts().jobs_by_state[std::size_t(JobState::Done)];
   const double mb = double(results.png.size() + results.exr.size() + results.solution.size()) / 1e6;
   std::printf(
       "dispatch  claimers %2d: %5d jobs, %.2f MB results  submit %6.0f/s  "
@@ -140,7 +151,7 @@ void dispatch(const std::string& url, int jobs, int claimers, const Results& res
       1e3 * percentile(all(claim_s), 0.5), 1e3 * percentile(all(claim_s), 0.99),
       1e3 * percentile(all(renew_s), 0.5), 1e3 * percentile(all(renew_s), 0.99),
       1e3 * percentile(all(finish_s), 0.5), 1e3 * percentile(all(finish_s), 0.99),
-      done == std::size_t(jobs) ? "" : "  (NOT ALL DONE)");
+      done == jobs ? "" : "  (NOT ALL DONE)");
 }
 
 void renewals(const std::string& url, int holders, double seconds) {
@@ -164,6 +175,8 @@ void renewals(const std::string& url, int holders, double seconds) {
         if (nodes[i]->progress(worker, claim->record, "") == Store::Lease::Held) ++n;
       }
       total += n;
+      claim->record.state = JobState::Cancelled;  // nothing left running for the next run
+      nodes[i]->finish(worker, claim->record, nullptr);
     });
   for (auto& th : threads) th.join();
   std::printf("renewals  holders  %2d: %6.0f lease renewals/s\n", holders, double(total) / seconds);
@@ -206,23 +219,30 @@ int main(int argc, char** argv) {
   std::string url;
   int jobs = 2000, farm_jobs = 60;
   std::vector<int> claimers = {1, 4, 16}, workers = {1, 2, 4};
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string flag = argv[i], value = argv[i + 1];
-    if (flag == "--store")
-      url = value;
-    else if (flag == "--jobs")
-      jobs = std::max(1, std::stoi(value));
-    else if (flag == "--claimers")
-      claimers = parse_list(value);
-    else if (flag == "--workers")
-      workers = parse_list(value);
-    else if (flag == "--farm-jobs")
-      farm_jobs = std::max(1, std::stoi(value));
-    else {
-      std::fprintf(stderr, "unknown option %s (see the comment at the top of queue_bench.cpp)\n",
-                   flag.c_str());
-      return 2;
+  try {
+    for (int i = 1; i < argc; i += 2) {
+      const std::string flag = argv[i];
+      if (i + 1 == argc) throw std::invalid_argument(flag + ": needs a value");
+      const std::string value = argv[i + 1];
+      if (flag == "--store")
+        url = value;
+      else if (flag == "--jobs")
+        jobs = positive(flag, value);
+      else if (flag == "--claimers")
+        claimers = parse_list(flag, value);
+      else if (flag == "--workers")
+        workers = parse_list(flag, value);
+      else if (flag == "--farm-jobs")
+        farm_jobs = positive(flag, value);
+      else
+        throw std::invalid_argument("unknown option " + flag);
     }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr,
+                 "bumprad-bench-queue: %s (options: see the comment at the top of "
+                 "bench/queue_bench.cpp)\n",
+                 e.what());
+    return 2;
   }
   try {
     Databases databases(url);
