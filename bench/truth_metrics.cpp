@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
 #include "solver/camera.h"
 
 namespace bumprad {
@@ -10,6 +12,22 @@ namespace {
 
 bool emits(const Rgb& e) {
   return e.r + e.g + e.b > 0;
+}
+
+// Whether the ray meets an emitter, straight or through perfect mirrors (an emitter's image
+// in a mirror is as bright and as small as the emitter).
+bool sees_emitter(const Scene& scene, const Mesh& mesh, const RayScene& rays, Ray ray) {
+  for (int bounce = 0; bounce < 4; ++bounce) {
+    const auto hit = rays.intersect(ray);
+    if (!hit || !hit->front) return false;
+    const Element& e = mesh.elements[hit->element];
+    const Material& m = scene.materials[std::size_t(e.material)];
+    if (emits(m.emission)) return true;
+    if (m.specular <= 0 || m.shininess > 0) return false;
+    const Vec3 point = ray.origin + hit->t * ray.direction;
+    ray = {point + e.normal * (1e-4 * mesh.diagonal()), glm::reflect(ray.direction, e.normal)};
+  }
+  return false;
 }
 
 }  // namespace
@@ -20,9 +38,8 @@ std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const Ray
   std::vector<bool> light(std::size_t(c.width) * std::size_t(c.height), false);
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x)
-      if (auto hit = rays.intersect(pinhole.ray(x + 0.5, y + 0.5)))
-        light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] =
-            emits(scene.materials[std::size_t(mesh.elements[hit->element].material)].emission);
+      light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] =
+          sees_emitter(scene, mesh, rays, pinhole.ray(x + 0.5, y + 0.5));
   std::vector<bool> near = light;
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x)

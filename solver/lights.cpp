@@ -63,6 +63,7 @@ Lights::Lights(const Mesh& mesh, std::span<const Material> materials)
     cumulative_.push_back(total);
   }
   for (double& c : cumulative_) c /= total;
+  total_power_ = total;
 }
 
 Vec3 Lights::point_on(const Element& e, Random& random) const {
@@ -133,6 +134,52 @@ Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& ray
       sum += emission * (m.specular * g);
   }
   return sum;
+}
+
+double Lights::pdf_solid_angle(std::uint32_t element, double distance, double cos_there) const {
+  auto it = std::lower_bound(emitters_.begin(), emitters_.end(), element,
+                             [](const Emitter& e, std::uint32_t i) { return e.element < i; });
+  if (it == emitters_.end() || it->element != element || cos_there <= 0) return 0;
+  return it->weight / total_power_ * distance * distance / cos_there;  // pdf_area r^2 / cos'
+}
+
+bool Lights::planar_mirror(std::uint32_t surface) const {
+  return std::any_of(mirrors_.begin(), mirrors_.end(),
+                     [&](const Mirror& m) { return m.surface == surface; });
+}
+
+Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                              const RayScene& rays, Random& random) const {
+  if (emitters_.empty()) return Rgb(0);
+  const Sample light = sample(random);
+  const Element& le = mesh_.elements[light.element];
+  // One term: the point y (or its image) seen along d at `distance`, facing `facing`.
+  auto term = [&](const Vec3& y, const Vec3& facing, const Mirror* mirror) {
+    Vec3 d = y - from;
+    const double distance = glm::length(d);
+    d /= distance;
+    if (glm::dot(d, geometric) <= 0) return 0.0;
+    const double lobe_pdf = lobe.pdf(d);
+    const double light_pdf = pdf_solid_angle(light.element, distance, -glm::dot(facing, d));
+    if (lobe_pdf <= 0 || light_pdf <= 0) return 0.0;
+    if (mirror ? !visible_through(*mirror, from, y, rays)
+               : rays.occluded({from, d}, distance - 2 * epsilon_))
+      return 0.0;
+    const double weight = light_pdf * light_pdf / (light_pdf * light_pdf + lobe_pdf * lobe_pdf);
+    return (mirror ? mirror->specular : 1) * lobe_pdf * weight / light_pdf;
+  };
+  double sum = term(light.point, le.normal, nullptr);
+  for (const Mirror& m : mirrors_)
+    if (glm::dot(from - m.point, m.normal) > 0 && glm::dot(light.point - m.point, m.normal) > 0)
+      sum += term(m.reflect(light.point), le.normal - 2 * glm::dot(le.normal, m.normal) * m.normal,
+                  &m);
+  return light.emission * sum;
+}
+
+double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
+                           double cos_there) const {
+  const double light_pdf = pdf_solid_angle(element, distance, cos_there);
+  return lobe_pdf * lobe_pdf / (lobe_pdf * lobe_pdf + light_pdf * light_pdf);
 }
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/mesh.h"
+#include "solver/phong_lobe.h"
 #include "solver/random.h"
 #include "solver/ray_scene.h"
 #include "solver/scene.h"
@@ -61,6 +62,23 @@ class Lights {
   // one planar mirror, must then not count that emitter's emission again.
   Rgb next_event(const Vec3& from, const Vec3& normal, const RayScene& rays, Random& random) const;
 
+  // Glossy highlights, with multiple importance sampling (Veach 1997, power heuristic) of
+  // two strategies for the integral of E(d) lobe.pdf(d) over directions d (radiosity units,
+  // before k_s): one emitter point chosen by power, seen straight and in each planar mirror
+  // (this call: E lobe.pdf w / pdf per term, k_s times for an image, if visible from
+  // `from`), and the caller's lobe direction, whose emission counts lobe_weight() times
+  // when it meets an emitter straight or after one planar mirror. A small bright emitter in
+  // a wide lobe is then found by the first, a sharp lobe by the second, without the
+  // fireflies of either alone.
+  Rgb glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                        const RayScene& rays, Random& random) const;
+  // The weight of a lobe direction (drawn with density `lobe_pdf`) that met emitter element
+  // `element` after `distance` (through a planar mirror: the unfolded length), arriving at
+  // cosine `cos_there` to the emitter's normal.
+  double lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
+                     double cos_there) const;
+  bool planar_mirror(std::uint32_t surface) const;
+
  private:
   struct Emitter {
     std::uint32_t element;
@@ -74,6 +92,9 @@ class Lights {
     Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
   };
   Vec3 point_on(const Element& e, Random& random) const;
+  // Density per solid angle of sample() choosing a point on emitter element `element`
+  // (0 for no emitter) seen at `distance` and cosine `cos_there` to its normal.
+  double pdf_solid_angle(std::uint32_t element, double distance, double cos_there) const;
   // Whether the point `to_image` (an emitter point's image in `mirror`) is seen from `from`
   // through the mirror: the mirror is the first thing on the way, and the reflected ray
   // reaches the emitter point.
@@ -84,6 +105,7 @@ class Lights {
   std::vector<Emitter> emitters_;
   std::vector<Mirror> mirrors_;
   std::vector<double> cumulative_;  // by power, normalised
+  double total_power_ = 0;          // sum of area times E's channel sum
   double epsilon_;
 };
 

@@ -13,6 +13,7 @@
 #include "solver/camera.h"
 #include "solver/hemicube.h"
 #include "solver/lights.h"
+#include "solver/phong_lobe.h"
 #include "solver/random.h"
 #include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
@@ -38,13 +39,30 @@ class PathTracer {
     // What the path met since it last left a diffuse surface. There next-event estimation
     // counted the emitters and their images in planar mirrors, so an emitter met straight
     // after it, or after one planar mirror, must not be counted again.
-    enum class Since { Camera, Diffuse, OneMirror, Uncovered } since = Since::Camera;
+    // After a glossy surface next-event estimation counted the emitters and their images in
+    // part (multiple importance sampling): an emitter met straight after it, or after one
+    // planar mirror, counts with the lobe's weight.
+    enum class Since {
+      Camera,
+      Diffuse,
+      OneMirror,
+      Glossy,
+      GlossyMirror,
+      Uncovered
+    } since = Since::Camera;
+    double lobe_pdf = 0, travelled = 0;  // since the last glossy surface: its density, length
     for (int depth = 0; depth < 1000; ++depth) {
       auto hit = rays_.intersect(ray);
       if (!hit || !hit->front) break;  // one-sided surfaces: a back face absorbs
       const Element& e = mesh_.elements[hit->element];
       const Material& m = scene_.materials[std::size_t(e.material)];
-      if (since == Since::Camera || since == Since::Uncovered) sum += throughput * m.emission / kPi;
+      if (since == Since::Camera || since == Since::Uncovered)
+        sum += throughput * m.emission / kPi;
+      else if ((since == Since::Glossy || since == Since::GlossyMirror) && m.emission != Rgb(0))
+        sum += throughput * m.emission *
+               (lights_.lobe_weight(lobe_pdf, hit->element, travelled + hit->t,
+                                    -glm::dot(e.normal, ray.direction)) /
+                kPi);
 
       const SurfaceAt s = surface_at(mesh_, e, hit->u, hit->v);
       Vec3 normal = s.normal;
@@ -70,13 +88,24 @@ class PathTracer {
         since = Since::Diffuse;
       } else if (choice < diffuse + m.specular) {
         const Vec3 mirror = glm::reflect(ray.direction, normal);
-        Vec3 d = mirror;
-        if (m.shininess > 0 && !phong_direction(mirror, normal, m.shininess, random, d)) break;
-        ray = {from, d};
-        const bool planar = m.shininess == 0 && planar_mirror_[e.surface];
-        since = since == Since::Camera              ? Since::Camera
-                : since == Since::Diffuse && planar ? Since::OneMirror
-                                                    : Since::Uncovered;
+        if (m.shininess > 0) {
+          const PhongLobe lobe(mirror, normal, m.shininess);
+          sum += throughput * lights_.glossy_next_event(from, e.normal, lobe, rays_, random) / kPi;
+          Vec3 d;
+          if (!lobe.sample(random, d)) break;
+          ray = {from, d};
+          lobe_pdf = lobe.pdf(d);
+          travelled = 0;
+          since = Since::Glossy;
+        } else {
+          ray = {from, mirror};
+          const bool planar = planar_mirror_[e.surface];
+          travelled += hit->t;
+          since = since == Since::Camera              ? Since::Camera
+                  : since == Since::Diffuse && planar ? Since::OneMirror
+                  : since == Since::Glossy && planar  ? Since::GlossyMirror
+                                                      : Since::Uncovered;
+        }
       } else {
         break;
       }
@@ -86,21 +115,6 @@ class PathTracer {
   }
 
  private:
-  // A direction from the Phong lobe about `mirror`, drawn again while it points below the
-  // surface (the view pass renormalises the lobe the same way); false if none is found.
-  static bool phong_direction(const Vec3& mirror, const Vec3& normal, double shininess,
-                              Random& random, Vec3& out) {
-    const Frame lobe = frame_about(mirror);
-    for (int attempt = 0; attempt < 64; ++attempt) {
-      const double cos_a = std::pow(random.next(), 1 / (shininess + 1));
-      const double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-      const double phi = 2 * kPi * random.next();
-      out = lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a));
-      if (glm::dot(out, normal) > 0) return true;
-    }
-    return false;
-  }
-
   const Scene& scene_;
   const Mesh& mesh_;
   const RayScene& rays_;

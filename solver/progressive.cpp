@@ -8,6 +8,7 @@
 #include "common/stopwatch.h"
 #include "solver/form_factor_exact.h"
 #include "solver/lights.h"
+#include "solver/phong_lobe.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
@@ -232,15 +233,14 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
   auto reflect = [&](std::uint32_t p, const Rgb& power, const Rgb& emission) {
     if (n <= 0) return deposit(d.mirror(p), power, emission);
     Vec3 in(d.direction(p));
-    Frame lobe = frame_about(glm::normalize(Vec3(-in.x, -in.y, in.z)), 2.399963 * p);
+    const PhongLobe lobe(glm::normalize(Vec3(-in.x, -in.y, in.z)), Vec3(0, 0, 1), n);
     std::array<std::size_t, kLobe> out;
     int valid = 0;
     for (int k = 0; k < kLobe; ++k) {
-      double cos_a = std::pow((k / 4 + 0.5) / (kLobe / 4), 1 / (n + 1));
-      double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-      double phi = 2 * std::numbers::pi * ((k % 4) + 0.5) / 4 + (k / 4) * 0.7;
+      // 8 rings of 4, each ring turned, the whole pattern turned per pixel (golden angle).
+      const double turn = ((k / 4) * 0.7 + 2.399963 * p) / (2 * std::numbers::pi);
       std::size_t q =
-          d.pixel_for(lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a)));
+          d.pixel_for(lobe.direction((k / 4 + 0.5) / (kLobe / 4), (k % 4 + 0.5) / 4 + turn));
       if (q < d.size()) out[std::size_t(valid++)] = q;
     }
     if (valid == 0) return deposit(d.mirror(p), power, emission);

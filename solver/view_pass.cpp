@@ -11,6 +11,7 @@
 
 #include "solver/bump.h"
 #include "solver/camera.h"
+#include "solver/phong_lobe.h"
 #include "solver/random.h"
 #include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
@@ -40,6 +41,13 @@ std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
   return vertex_radiosity(mesh, open, detail.open);
 }
 
+// A ray drawn from a glossy lobe with density `pdf`, `travelled` from the glossy surface
+// when it met a planar mirror (`pdf` 0: any other ray).
+struct LobeRay {
+  double pdf = 0, travelled = 0;
+  bool mirrored = false;
+};
+
 class Tracer {
  public:
   Tracer(const Mesh& mesh, const RayScene& rays, const Camera& camera,
@@ -59,33 +67,41 @@ class Tracer {
 
   // What the ray sees, in radiosity units (pi times radiance): the diffuse radiosity, plus
   // k_s times what the surface reflects (second pass): a mirror follows one ray, a glossy
-  // surface samples its Phong lobe at the first glossy bounce (one ray after that).
-  Rgb trace(const Ray& ray, int depth, Random& rng, bool sampled_lobe = false) const {
+  // surface samples its Phong lobe at the first glossy bounce (one ray after that). With
+  // exact direct light a glossy surface also samples the emitters and their images in
+  // planar mirrors (Lights::glossy_next_event), and a lobe ray counts the emission it meets
+  // straight or after one planar mirror with the lobe's weight.
+  Rgb trace(const Ray& ray, int depth, Random& rng, const LobeRay& lobe_ray = {}) const {
     auto hit = rays_.intersect(ray);
     if (!hit || !hit->front) return Rgb(0);
     const Element& e = mesh_.elements[hit->element];
     SurfacePoint p = shade(*hit, ray, rng);
     const Material* m =
         detail_.materials.empty() ? nullptr : &detail_.materials[std::size_t(e.material)];
+    const Lights* lights = detail_.lights;
+    if (m && lobe_ray.pdf > 0 && lights && m->emission != Rgb(0))
+      p.radiosity -= m->emission * (1 - lights->lobe_weight(lobe_ray.pdf, hit->element,
+                                                            lobe_ray.travelled + hit->t,
+                                                            -glm::dot(e.normal, ray.direction)));
     if (!m || m->specular <= 0 || depth >= camera_.max_depth) return p.radiosity;
 
     Vec3 r = glm::reflect(ray.direction, p.normal);
     Vec3 from = p.position + p.normal * (1e-6 * mesh_.diagonal());
-    if (m->shininess <= 0) return p.radiosity + m->specular * trace({from, r}, depth + 1, rng);
-    const int samples = sampled_lobe ? 1 : std::max(1, camera_.glossy_samples);
-    const Frame lobe = frame_about(r);
-    Rgb sum(0);
-    int valid = 0;
-    for (int s = 0; s < samples; ++s) {
-      double cos_a = std::pow(rng.next(), 1 / (m->shininess + 1));
-      double sin_a = std::sqrt(std::max(0.0, 1 - cos_a * cos_a));
-      double phi = 2 * std::numbers::pi * rng.next();
-      Vec3 d = lobe.to_world(Vec3(sin_a * std::cos(phi), sin_a * std::sin(phi), cos_a));
-      if (glm::dot(d, p.normal) <= 0) continue;  // below the surface: renormalised away
-      sum += trace({from, d}, depth + 1, rng, true);
-      ++valid;
+    if (m->shininess <= 0) {
+      LobeRay next;
+      if (lobe_ray.pdf > 0 && !lobe_ray.mirrored && lights && lights->planar_mirror(e.surface))
+        next = {lobe_ray.pdf, lobe_ray.travelled + hit->t, true};
+      return p.radiosity + m->specular * trace({from, r}, depth + 1, rng, next);
     }
-    return valid ? p.radiosity + m->specular * sum / double(valid) : p.radiosity;
+    const int samples = lobe_ray.pdf > 0 ? 1 : std::max(1, camera_.glossy_samples);
+    const PhongLobe lobe(r, p.normal, m->shininess);
+    Rgb sum(0);
+    for (int s = 0; s < samples; ++s) {
+      if (lights) sum += lights->glossy_next_event(from, e.normal, lobe, rays_, rng);
+      Vec3 d;
+      if (lobe.sample(rng, d)) sum += trace({from, d}, depth + 1, rng, {lobe.pdf(d)});
+    }
+    return p.radiosity + m->specular * sum / double(samples);
   }
 
  private:

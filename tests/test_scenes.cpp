@@ -1,5 +1,11 @@
 #include "tests/test_scenes.h"
 
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "solver/phong_lobe.h"
+
 namespace bumprad::test {
 
 Object quad(const std::array<Vec3, 4>& corners, int nu, int nv, int material) {
@@ -26,6 +32,43 @@ Scene scene_of(std::vector<Object> objects, double rho, double emission) {
   s.materials.push_back(m);
   s.objects = std::move(objects);
   return s;
+}
+
+Scene glossy_highlight() {
+  Scene s = scene_of({quad({Vec3(-3, -3, 0), Vec3(3, -3, 0), Vec3(3, 3, 0), Vec3(-3, 3, 0)}),
+                      quad(rectangle_facing_down(0.2, 0.2, 1), 1, 1, 1)},
+                     0);
+  for (Vec3& p : std::get<QuadShape>(s.objects[1].shape).corners) p.x += 1;
+  s.materials[0].specular = 1;
+  s.materials[0].shininess = 20;
+  Material lamp;
+  lamp.reflectance = Rgb(0);
+  lamp.emission = Rgb(50);
+  s.materials.push_back(lamp);
+  s.camera.position = Vec3(-1, 0, 1);
+  s.camera.look_at = Vec3(0);
+  s.camera.up = Vec3(0, 0, 1);
+  s.camera.fov_y_deg = 1;
+  s.camera.width = s.camera.height = 8;
+  return s;
+}
+
+double glossy_highlight_radiance(const Scene& scene) {
+  const Vec3 eye = glm::normalize(scene.camera.look_at - scene.camera.position);
+  const PhongLobe lobe(glm::reflect(eye, Vec3(0, 0, 1)), Vec3(0, 0, 1),
+                       scene.materials[0].shininess);
+  const auto& c = std::get<QuadShape>(scene.objects[1].shape).corners;
+  const double area = glm::length(c[1] - c[0]) * glm::length(c[3] - c[0]);
+  constexpr int kN = 64;
+  double sum = 0;
+  for (int i = 0; i < kN; ++i)
+    for (int j = 0; j < kN; ++j) {
+      const Vec3 y = c[0] + (c[1] - c[0]) * ((i + 0.5) / kN) + (c[3] - c[0]) * ((j + 0.5) / kN);
+      const double r = glm::length(y);
+      const Vec3 d = y / r;
+      sum += lobe.pdf(d) * d.z / (r * r);  // the emitter faces -z: cos' = d.z
+    }
+  return scene.materials[1].emission.g / std::numbers::pi * sum * area / (kN * kN);
 }
 
 }  // namespace bumprad::test

@@ -13,6 +13,15 @@ Object quad(const std::array<Vec3, 4>& corners, int nu = 1, int nv = 1, int mate
 // An axis-aligned w x h rectangle at height z facing down (-z), centred on the z axis.
 std::array<Vec3, 4> rectangle_facing_down(double w, double h, double z);
 
+// A glossy floor (k_d 0, k_s 1, Phong exponent 20) in z = 0 facing up, and a small emitter
+// (0.2 x 0.2, E = 50) at z = 1 facing down in the floor's mirror direction as seen from the
+// camera, which looks from (-1, 0, 1) at the origin with a 1-degree field of view: every
+// pixel shows the highlight of a light much smaller than the lobe.
+Scene glossy_highlight();
+// The radiance the camera of glossy_highlight() sees at the origin: the integral of
+// (E / pi) lobe.pdf(d) over the emitter, by a 64 x 64 midpoint rule on its area.
+double glossy_highlight_radiance(const Scene& scene);
+
 // A scene with one grey material of reflectance `rho` and emission `emission`.
 Scene scene_of(std::vector<Object> objects, double rho = 0.5, double emission = 0);
 

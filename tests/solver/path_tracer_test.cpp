@@ -4,6 +4,7 @@
 // through a planar mirror. Bounds are a few standard errors of the sample counts used.
 #include "solver/path_tracer.h"
 
+#include <cmath>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include "solver/form_factor_exact.h"
 #include "solver/mesh.h"
 #include "solver/ray_scene.h"
+#include "tests/test_scenes.h"
 
 namespace bumprad {
 namespace {
@@ -109,6 +111,26 @@ TEST(PathTracer, LightThroughAPlanarMirrorIsItsVirtualImage) {
   // only the 2 % of paths that happened to reflect into the image counted: 1.0040 at 4,096
   // paths a pixel.)
   EXPECT_NEAR(mean(trace(s, 64)).g / expected, 1, 0.02) << "F " << f;
+}
+
+// A small bright light in a wider glossy lobe: next-event estimation at the glossy surface,
+// weighed against the lobe's own samples (multiple importance sampling), finds the highlight
+// at every path. The lobe alone meets the light in ~5 % of paths: its pixels at 64 paths
+// scattered by 69 %; with both, measured 2.0 % scatter and the mean within 0.2 %.
+TEST(PathTracer, AGlossyHighlightIsExactAndQuiet) {
+  const Scene s = test::glossy_highlight();
+  const double expected = test::glossy_highlight_radiance(s);
+  const Image image = trace(s, 64);
+  double sum = 0, square = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      sum += image.at(x, y).g;
+      square += image.at(x, y).g * image.at(x, y).g;
+    }
+  const double n = image.width * image.height, mean = sum / n;
+  const double scatter = std::sqrt(std::max(0.0, square / n - mean * mean)) / mean;
+  EXPECT_NEAR(mean / expected, 1, 0.02);
+  EXPECT_LT(scatter, 0.1);
 }
 
 TEST(PathTracer, TheImageIsAFunctionOfTheSeed) {

@@ -2,6 +2,8 @@
 // leaves back faces and misses black.
 #include "solver/view_pass.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -164,6 +166,27 @@ TEST(ViewPass, GlossyRendersAreDeterministic) {
     hi = std::max(hi, double(a.at(x, a.height / 2).r));
   }
   EXPECT_GT(hi - lo, 0.05);
+}
+
+// The second pass's highlight of a light much smaller than the lobe: the view pass samples
+// the emitter as well as the lobe (multiple importance sampling), so every pixel of it is
+// close to the exact integral (measured: mean +0.3 %, pixels scattered by 3.8 %); with the
+// lobe's 8 samples alone most pixels missed the light (scatter 147 %).
+TEST(ViewPass, AGlossyHighlightIsExactAndQuiet) {
+  Scene s = test::glossy_highlight();
+  s.solver.unshot_fraction = 0;
+  const double expected = test::glossy_highlight_radiance(s);
+  const Image image = render(s, solve(s));
+  double sum = 0, square = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      sum += image.at(x, y).g;
+      square += image.at(x, y).g * image.at(x, y).g;
+    }
+  const double n = image.width * image.height, mean = sum / n;
+  const double scatter = std::sqrt(std::max(0.0, square / n - mean * mean)) / mean;
+  EXPECT_NEAR(mean / expected, 1, 0.02);
+  EXPECT_LT(scatter, 0.1);
 }
 
 TEST(ViewPass, BackFacesAreBlack) {
