@@ -38,8 +38,13 @@ std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const Ray
   std::vector<bool> light(std::size_t(c.width) * std::size_t(c.height), false);
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x)
-      light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] =
-          sees_emitter(scene, mesh, rays, pinhole.ray(x + 0.5, y + 0.5));
+      // 8 x 8 rays a pixel: a light seen edge-on covers slivers of pixels.
+      for (int k = 0; k < 64; ++k)
+        if (sees_emitter(scene, mesh, rays,
+                         pinhole.ray(x + (k % 8 + 0.5) / 8, y + (k / 8 + 0.5) / 8))) {
+          light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
+          break;
+        }
   std::vector<bool> near = light;
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x)

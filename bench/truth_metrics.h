@@ -11,8 +11,8 @@
 
 namespace bumprad {
 
-// Pixels that show an emitter (straight or in a perfect mirror), or lie within two pixels of
-// one. A visible light is so much
+// Pixels that show any part of an emitter (straight or in a perfect mirror; 8 x 8 rays a
+// pixel), or lie within two pixels of one. A visible light is so much
 // brighter than what it lights that it carries nearly all of an image's squared norm (99 %
 // in the Cornell box): error over all pixels then measures the light's edges, whose
 // coverage each renderer samples differently, and not the lighting.

@@ -35,10 +35,13 @@ double share_above(double beta, double n) {
 }  // namespace
 
 PhongLobe::PhongLobe(const Vec3& mirror, const Vec3& normal, double exponent)
-    : frame_(frame_about(mirror)),
-      normal_(normal),
-      exponent_(exponent),
-      above_(share_above(std::asin(std::clamp(glm::dot(mirror, normal), -1.0, 1.0)), exponent)) {}
+    : frame_(frame_about(mirror)), normal_(normal), exponent_(exponent) {}
+
+double PhongLobe::above() const {
+  if (above_ < 0)
+    above_ = share_above(std::asin(std::clamp(glm::dot(frame_.z, normal_), -1.0, 1.0)), exponent_);
+  return above_;
+}
 
 Vec3 PhongLobe::direction(double u1, double u2) const {
   const double cos_a = std::pow(u1, 1 / (exponent_ + 1));
@@ -58,8 +61,8 @@ bool PhongLobe::sample(Random& random, Vec3& out) const {
 
 double PhongLobe::pdf(const Vec3& d) const {
   const double cos_a = glm::dot(d, frame_.z);
-  if (cos_a <= 0 || glm::dot(d, normal_) <= 0 || above_ <= 0) return 0;
-  return (exponent_ + 1) / (2 * kPi) * std::pow(cos_a, exponent_) / above_;
+  if (cos_a <= 0 || glm::dot(d, normal_) <= 0 || above() <= 0) return 0;
+  return (exponent_ + 1) / (2 * kPi) * std::pow(cos_a, exponent_) / above();
 }
 
 }  // namespace bumprad

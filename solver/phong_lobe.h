@@ -22,14 +22,15 @@ class PhongLobe {
   bool sample(Random& random, Vec3& out) const;
   // Density per solid angle of sample()'s directions: (n+1)/(2 pi) cos^n a / above().
   double pdf(const Vec3& d) const;
-  // The share of the unbounded lobe above the surface.
-  double above() const { return above_; }
+  // The share of the unbounded lobe above the surface (computed on first use: sampling alone
+  // does not need it).
+  double above() const;
 
  private:
   Frame frame_;
   Vec3 normal_;
   double exponent_;
-  double above_;
+  mutable double above_ = -1;
 };
 
 }  // namespace bumprad
