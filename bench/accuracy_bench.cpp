@@ -229,9 +229,10 @@ void perturbed_sweep() {
 //  - path_tracer: the path tracer itself (seed 2) at 1 to 4,096 paths a pixel, its error
 //    estimated the same way (the 4,096-path row, which measures the noise, is 2 sigma); setting:
 //    paths a pixel. Its error against time is what bumprad has to beat.
-//  - exact / radiosity (direct_light): bumprad's solve and render, to 3 %, 1 % and 0.3 %
-//    unshot at the scene's element size, and to 0.3 % at twice and half of it; setting:
-//    elements. seconds: solve and render, the time to the image.
+//  - exact / radiosity (direct_light): bumprad's solve and render, to 3, 1 and 0.3 times the
+//    scene's unshot fraction (1 % in cornell and wrinkled-box: 3 %, 1 %, 0.3 %) at its
+//    element size, and to 0.3 times at twice and half of it; setting: elements. seconds:
+//    solve and render, the time to the image.
 void image_sweep(const std::string& name) {
   Scene base = load_scene("builtin:" + name);
   base.camera.width = base.camera.height = 128;
@@ -266,15 +267,15 @@ void image_sweep(const std::string& name) {
                 without_noise(t.error, noise));
   const double size = default_element_size(base);
   struct Setting {
-    double element_scale, unshot;
+    double element_scale, unshot;  // times the scene's
   };
   for (DirectLight direct : {DirectLight::Exact, DirectLight::Radiosity})
-    for (Setting setting : {Setting{1, 0.03}, Setting{1, 0.01}, Setting{1, 0.003},
-                            Setting{2, 0.003}, Setting{0.5, 0.003}}) {
+    for (Setting setting :
+         {Setting{1, 3}, Setting{1, 1}, Setting{1, 0.3}, Setting{2, 0.3}, Setting{0.5, 0.3}}) {
       Scene s = base;
       s.solver.direct_light = direct;
       s.solver.element_size = size * setting.element_scale;
-      s.solver.unshot_fraction = setting.unshot;
+      s.solver.unshot_fraction = setting.unshot * base.solver.unshot_fraction;
       s.solver.max_shots = 20000;
       t0 = Clock::now();
       const Solution solution = solve(s);

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed against accuracy: runs bumprad-bench-accuracy (about 20 minutes on 2 cores) and
+# Speed against accuracy: runs bumprad-bench-accuracy (about 35 minutes on 2 cores) and
 # draws docs/speed-accuracy.png from docs/speed-accuracy.csv with gnuplot.
 #   scripts/chart.sh            sweep, then draw
 #   scripts/chart.sh --draw     draw the CSV already in docs/
@@ -13,7 +13,8 @@ if ! command -v gnuplot >/dev/null; then
 fi
 if [[ "${1:-}" != "--draw" ]]; then
   scripts/setup.sh
-  build/bin/bumprad-bench-accuracy > docs/speed-accuracy.csv.tmp
+  build/bin/bumprad-bench-accuracy point perturbed cornell wrinkled-box paper-room \
+    > docs/speed-accuracy.csv.tmp
   mv docs/speed-accuracy.csv.tmp docs/speed-accuracy.csv
 fi
 gnuplot scripts/speed-accuracy.gp

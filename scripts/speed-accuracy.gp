@@ -1,9 +1,9 @@
-# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Four panels, error
+# docs/speed-accuracy.csv -> docs/speed-accuracy.png (scripts/chart.sh). Five panels, error
 # against time on log scales, one curve per method: lower left is better.
 set datafile separator ","
-set terminal pngcairo size 1300,1000 font ",10"
+set terminal pngcairo size 1950,1000 font ",10"
 set output "docs/speed-accuracy.png.tmp"
-set multiplot layout 2,2
+set multiplot layout 2,3
 set logscale xy
 set grid
 set format x "10^{%L}"
@@ -29,7 +29,7 @@ plot rows("perturbed","gather") using 4:5:3 w lp pt 7 t "gather (hemi-cube 150 p
      rows("perturbed","shoot") using 4:5:3 w lp pt 5 t "shoot (with 256 shots)", \
      rows("perturbed","shoot") using 4:5:3 w labels offset 0,-0.8 font ",8" notitle
 
-do for [scene in "cornell wrinkled-box"] {
+do for [scene in "cornell wrinkled-box paper-room"] {
   set title sprintf("%s (128 x 128) vs path-traced ground truth", scene)
   set xlabel "seconds to the image (solve and render; path tracer: render)"
   set ylabel "relative RMS error, lit surfaces"
