@@ -9,6 +9,7 @@
 #include "solver/form_factor_exact.h"
 #include "solver/lights.h"
 #include "solver/phong_lobe.h"
+#include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
 
 namespace bumprad {
@@ -54,7 +55,6 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       rays_(rays),
       hemicube_(mesh, settings.hemicube_resolution),
       visible_slot_(mesh.elements.size(), -1),
-      reflectance_(mesh.elements.size()),
       specular_(mesh.elements.size()),
       shininess_(mesh.elements.size()),
       queue_(mesh.elements.size()),
@@ -77,11 +77,11 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   if (settings.form_factors == FormFactorMethod::RayCast && !rays)
     throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
   planar_mirror_ = planar_mirrors(mesh, materials);
+  reflectance_ = element_reflectance(mesh, materials);
   Rgb weighted_rho(0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
     const Material& m = materials[std::size_t(e.material)];
-    reflectance_[i] = m.reflectance;
     specular_[i] = m.specular;
     shininess_[i] = m.shininess;
     radiosity_[i] = unshot_[i] = unshot_emission_[i] = m.emission;

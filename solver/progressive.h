@@ -117,7 +117,7 @@ class ProgressiveSolver {
   Hemicube hemicube_;
   std::vector<VisibleElement> visible_;     // the current shot's form factors
   std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1
-  std::vector<Rgb> reflectance_;            // per element: diffuse albedo rho = k_d * colour
+  std::vector<Rgb> reflectance_;            // per element: diffuse albedo, element_reflectance()
   std::vector<double> specular_;            // per element: k_s
   std::vector<double> shininess_;           // per element: Phong exponent, 0 for a mirror
   // Per non-diffuse element, the power it will reflect specularly, by source patch, since

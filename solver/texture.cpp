@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/vertex_radiosity.h"
+
 namespace bumprad {
 namespace {
 
@@ -47,6 +49,28 @@ Rgb texture_mean(const ColorTexture& t) {
   for (int y = 0; y < t.image->height; ++y)
     for (int x = 0; x < t.image->width; ++x) sum += t.image->at(x, y);
   return sum / double(t.image->width * t.image->height);
+}
+
+std::vector<Rgb> element_reflectance(const Mesh& mesh, std::span<const Material> materials) {
+  std::vector<Rgb> rho(mesh.elements.size());
+  constexpr int kN = 8;
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    const Material& m = materials[std::size_t(e.material)];
+    if (!m.texture) {
+      rho[i] = m.reflectance;
+      continue;
+    }
+    Rgb sum(0);
+    for (int a = 0; a < kN; ++a)
+      for (int b = 0; b < kN; ++b) {
+        double u = (a + 0.5) / kN, v = (b + 0.5) / kN;
+        if (e.vertex_count == 3 && u + v > 1) u = 1 - u, v = 1 - v;  // folded onto the triangle
+        sum += texture_reflectance(*m.texture, surface_at(mesh, e, u, v).uv);
+      }
+    rho[i] = sum / double(kN * kN);
+  }
+  return rho;
 }
 
 }  // namespace bumprad

@@ -2,9 +2,13 @@
 // Image height maps (bump.cpp) and colour textures (the view pass) share it.
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include <glm/vec2.hpp>
 
 #include "solver/image.h"
+#include "solver/mesh.h"
 #include "solver/scene.h"
 
 namespace bumprad {
@@ -15,7 +19,12 @@ Rgb sample_image(const Image& image, glm::dvec2 p, Wrap wrap);
 // The texture's reflectance at surface coordinates uv.
 Rgb texture_reflectance(const ColorTexture& texture, glm::dvec2 uv);
 
-// Its mean reflectance over the surface: what the solve uses.
+// Its mean reflectance over the whole texture.
 Rgb texture_mean(const ColorTexture& texture);
+
+// Per element, the diffuse reflectance the solve uses: a textured material's mean over the
+// element (8 x 8 samples), so light bounces off a checker's light squares more than off its
+// dark ones; otherwise the material's reflectance.
+std::vector<Rgb> element_reflectance(const Mesh& mesh, std::span<const Material> materials);
 
 }  // namespace bumprad

@@ -28,17 +28,28 @@ struct SurfacePoint {
 
 // The vertices' radiosity. An element partly buried (open_share() < 1) received its light
 // on its open part alone (a shooter sees only that part), spread over its whole area: over
-// the open part its reflected radiosity is (B - E) / open.
+// the open part its reflected radiosity is (B - E) / open. A textured element reflected
+// with its own mean reflectance (element_reflectance()): its reflected part is brought to
+// the texture's mean, so that vertices interpolate the light arriving, not the checker, and
+// shade() scales it by rho(u,v) / mean per pixel.
 std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
                                const SurfaceDetail& detail) {
-  if (detail.open.empty() || detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
-  std::vector<Rgb> open(radiosity.begin(), radiosity.end());
-  for (std::size_t i = 0; i < open.size(); ++i)
-    if (detail.open[i] > 0 && detail.open[i] < 1) {
-      const Rgb& e = detail.materials[std::size_t(mesh.elements[i].material)].emission;
-      open[i] = e + (open[i] - e) / detail.open[i];
+  if (detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
+  const std::vector<Rgb> rho = element_reflectance(mesh, detail.materials);
+  std::vector<Rgb> values(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const Material& m = detail.materials[std::size_t(mesh.elements[i].material)];
+    Rgb reflected = values[i] - m.emission;
+    if (!detail.open.empty() && detail.open[i] > 0 && detail.open[i] < 1)
+      reflected /= detail.open[i];
+    if (m.texture) {
+      const Rgb mean = texture_mean(*m.texture);
+      for (int c = 0; c < 3; ++c)
+        if (rho[i][c] > 0) reflected[c] *= mean[c] / rho[i][c];
     }
-  return vertex_radiosity(mesh, open, detail.open);
+    values[i] = m.emission + reflected;
+  }
+  return vertex_radiosity(mesh, values, detail.open);
 }
 
 // A ray drawn from a glossy lobe with density `pdf`, `travelled` from the glossy surface

@@ -11,6 +11,7 @@
 #include "solver/bump.h"
 #include "solver/form_factor_exact.h"
 #include "solver/solution.h"
+#include "solver/texture.h"
 #include "solver/vertex_radiosity.h"
 #include "tests/test_scenes.h"
 
@@ -97,25 +98,35 @@ TEST(ViewPass, AntialiasingCoversEdgesAlongTheAxesInFineSteps) {
   EXPECT_LT(worst, 1.0 / 32 + 1e-4);
 }
 
-TEST(ViewPass, CheckerScalesTheReflectedRadiosityByRhoOverItsMean) {
+// The solve reflects with each element's own mean of the texture (element_reflectance):
+// here the light arriving is 5 on both squares, so the elements' radiosity is E + rho 5.
+// The view pass interpolates the light arriving, not the radiosity, and multiplies by the
+// texture per pixel: each square shows exactly its colour times 5, also next to the other
+// (interpolating the radiosity blurred the checker's edge across an element).
+TEST(ViewPass, ACheckerReflectsTheLightArrivingWithItsColourPerPixel) {
   Mesh m = two_element_quad();
   RayScene rays(m);
   Material mat;
   mat.emission = Rgb(0.5);
   mat.texture = ColorTexture{};
-  mat.texture->colors = {Rgb(0.2), Rgb(0.6)};  // mean 0.4
-  mat.texture->scale = {2, 1};                 // two squares across, one per element
+  mat.texture->colors = {Rgb(0.2), Rgb(0.6)};
+  mat.texture->scale = {2, 1};  // two squares across, one per element
   std::vector<Material> materials = {mat};
   SurfaceDetail detail;
   detail.materials = materials;
-  std::vector<Rgb> b(2, Rgb(2.5));  // reflected part 2.0
+  const std::vector<Rgb> rho = element_reflectance(m, materials);
+  ASSERT_NEAR(rho[0].r, 0.2, 1e-12);
+  ASSERT_NEAR(rho[1].r, 0.6, 1e-12);
+  const std::vector<Rgb> b = {Rgb(0.5) + rho[0] * 5.0, Rgb(0.5) + rho[1] * 5.0};
   Camera cam = facing(3);
   Image img = render_view(m, rays, cam, b, detail);
   // u runs along +x: the left square has colour 0, the right one colour 1.
-  double left = img.at(cam.width / 2 - 8, cam.height / 2).r * std::numbers::pi;
-  double right = img.at(cam.width / 2 + 8, cam.height / 2).r * std::numbers::pi;
-  EXPECT_NEAR(left, 0.5 + 2.0 * 0.2 / 0.4, 1e-5);
-  EXPECT_NEAR(right, 0.5 + 2.0 * 0.6 / 0.4, 1e-5);
+  for (int dx : {1, 8, 16}) {
+    EXPECT_NEAR(img.at(cam.width / 2 - dx, cam.height / 2).r * std::numbers::pi, 0.5 + 0.2 * 5,
+                1e-5);
+    EXPECT_NEAR(img.at(cam.width / 2 + dx - 1, cam.height / 2).r * std::numbers::pi, 0.5 + 0.6 * 5,
+                1e-5);
+  }
 }
 
 // A specular quad (material 0) in z = 0 facing the camera at z = 3, and behind the camera
