@@ -4,19 +4,13 @@
 
 #include <vector>
 
+#include "solver/error_estimate.h"
 #include "solver/image.h"
 #include "solver/mesh.h"
 #include "solver/ray_scene.h"
 #include "solver/scene.h"
 
 namespace bumprad {
-
-// Pixels that show any part of an emitter (straight or in a perfect mirror; 8 x 8 rays a
-// pixel), or lie within two pixels of one. A visible light is so much
-// brighter than what it lights that it carries nearly all of an image's squared norm (99 %
-// in the Cornell box): error over all pixels then measures the light's edges, whose
-// coverage each renderer samples differently, and not the lighting.
-std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays);
 
 struct Comparison {
   double surfaces;    // relative RMS over pixels that show no emitter

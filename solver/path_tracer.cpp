@@ -123,6 +123,43 @@ class PathTracer {
   double epsilon_;
 };
 
+// One pixel: the mean of `spp` paths through it, and the variance of that mean (channels
+// summed). Seeded by the pixel's index, so a pixel is the same in every call.
+struct PixelPaths {
+  Rgb mean;
+  double variance;
+};
+PixelPaths trace_pixel(const PathTracer& tracer, const PinholeCamera& pinhole, int width, int x,
+                       int y, int spp, std::uint64_t seed) {
+  Rgb sum(0), squares(0);
+  for (int s = 0; s < spp; ++s) {
+    const std::uint64_t index =
+        (std::uint64_t(y) * std::uint64_t(width) + std::uint64_t(x)) * std::uint64_t(spp) +
+        std::uint64_t(s);
+    // Hashed: seeded index * 0x9e37... (the generator's own increment), path s + 1 replayed
+    // path s's numbers shifted by one, and the paths of a pixel were far from independent.
+    Random random(hash64(seed * 0x2545f4914f6cdd1dull + hash64(index)));
+    const Rgb l = tracer.radiance(pinhole.ray(x + random.next(), y + random.next()), random);
+    sum += l;
+    squares += l * l;
+  }
+  const Rgb mean = sum / double(spp);
+  const Rgb spread = glm::max(squares / double(spp) - mean * mean, Rgb(0));
+  return {mean, (spread.r + spread.g + spread.b) / std::max(1.0, double(spp - 1))};
+}
+
+// Runs work(i) for i in [0, count) on every core, in order of i per thread; stops early.
+void parallel(int count, const std::function<void(int)>& work, std::stop_token stop) {
+  std::atomic<int> next{0};
+  auto run = [&] {
+    for (int i; !stop.stop_requested() && (i = next++) < count;) work(i);
+  };
+  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<std::jthread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run);
+  run();
+}
+
 }  // namespace
 
 Image render_reference(const Scene& scene, const Mesh& mesh, const RayScene& rays,
@@ -133,29 +170,35 @@ Image render_reference(const Scene& scene, const Mesh& mesh, const RayScene& ray
   const int width = scene.camera.width, height = scene.camera.height;
   const int spp = std::max(1, settings.samples_per_pixel);
   Image image(width, height);
-  std::atomic<int> next_row{0}, rows_done{0};
-  auto work = [&] {
-    for (int y; !stop.stop_requested() && (y = next_row++) < height;) {
-      for (int x = 0; x < width; ++x) {
-        Rgb sum(0);
-        for (int s = 0; s < spp; ++s) {
-          const std::uint64_t index =
-              (std::uint64_t(y) * std::uint64_t(width) + std::uint64_t(x)) * std::uint64_t(spp) +
-              std::uint64_t(s);
-          Random random(settings.seed * 0x2545f4914f6cdd1dull + index * 0x9e3779b97f4a7c15ull);
-          sum += tracer.radiance(pinhole.ray(x + random.next(), y + random.next()), random);
-        }
-        image.set(x, y, sum / double(spp));
-      }
-      const int done = ++rows_done;
-      if (progress) progress(double(done) / height);
-    }
-  };
-  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::jthread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
+  std::atomic<int> rows_done{0};
+  parallel(
+      height,
+      [&](int y) {
+        for (int x = 0; x < width; ++x)
+          image.set(x, y, trace_pixel(tracer, pinhole, width, x, y, spp, settings.seed).mean);
+        const int done = ++rows_done;
+        if (progress) progress(double(done) / height);
+      },
+      stop);
   return image;
+}
+
+std::vector<TracedPixel> trace_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays,
+                                      std::span<const PixelIndex> pixels,
+                                      const ReferenceSettings& settings) {
+  const PathTracer tracer(scene, mesh, rays);
+  const PinholeCamera pinhole(scene.camera);
+  const int spp = std::max(1, settings.samples_per_pixel);
+  std::vector<TracedPixel> out(pixels.size());
+  parallel(int(pixels.size()),
+           [&](int i) {
+             const PixelIndex& p = pixels[std::size_t(i)];
+             const PixelPaths t =
+                 trace_pixel(tracer, pinhole, scene.camera.width, p.x, p.y, spp, settings.seed);
+             out[std::size_t(i)] = {p, t.mean, t.variance};
+           },
+           {});
+  return out;
 }
 
 }  // namespace bumprad

@@ -7,12 +7,15 @@
 // is sampled at every diffuse bounce (next-event estimation), and so is light through each
 // planar mirror, to the emitter's image: light a flat mirror throws on a diffuse surface
 // would otherwise be found only by paths that happen to bounce into a small emitter's
-// image. Russian roulette ends paths.
+// image. At glossy surfaces the emitters are sampled too, weighed against the lobe
+// (multiple importance sampling). Russian roulette ends paths.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <stop_token>
+#include <vector>
 
 #include "solver/image.h"
 #include "solver/mesh.h"
@@ -33,5 +36,19 @@ using ReferenceProgress = std::function<void(double fraction)>;
 Image render_reference(const Scene& scene, const Mesh& mesh, const RayScene& rays,
                        const ReferenceSettings& settings, const ReferenceProgress& progress = {},
                        std::stop_token stop = {});
+
+struct PixelIndex {
+  int x, y;
+};
+struct TracedPixel {
+  PixelIndex pixel;
+  Rgb radiance;     // as render_reference gives it for the same settings
+  double variance;  // of that mean, channels summed: its own noise
+};
+// Only the given pixels of the reference, with their noise (for estimating error without a
+// whole reference image).
+std::vector<TracedPixel> trace_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays,
+                                      std::span<const PixelIndex> pixels,
+                                      const ReferenceSettings& settings);
 
 }  // namespace bumprad

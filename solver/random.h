@@ -6,6 +6,14 @@
 
 namespace bumprad {
 
+// A well-mixed 64-bit function of x (splitmix64's finaliser), for seeding many independent
+// streams: seeds k apart by the increment below would give the same sequence shifted by k.
+inline std::uint64_t hash64(std::uint64_t x) {
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
 class Random {
  public:
   explicit Random(std::uint64_t seed) : state_(seed) {}

@@ -1,0 +1,120 @@
+#include "solver/error_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <glm/geometric.hpp>
+
+#include "common/stopwatch.h"
+#include "solver/camera.h"
+#include "solver/path_tracer.h"
+#include "solver/solution.h"
+
+namespace bumprad {
+namespace {
+
+bool emits(const Rgb& e) {
+  return e.r + e.g + e.b > 0;
+}
+
+// Whether the ray meets an emitter, straight or through perfect mirrors (an emitter's image
+// in a mirror is as bright and as small as the emitter).
+bool sees_emitter(const Scene& scene, const Mesh& mesh, const RayScene& rays, Ray ray) {
+  for (int bounce = 0; bounce < 4; ++bounce) {
+    const auto hit = rays.intersect(ray);
+    if (!hit || !hit->front) return false;
+    const Element& e = mesh.elements[hit->element];
+    const Material& m = scene.materials[std::size_t(e.material)];
+    if (emits(m.emission)) return true;
+    if (m.specular <= 0 || m.shininess > 0) return false;
+    const Vec3 point = ray.origin + hit->t * ray.direction;
+    ray = {point + e.normal * (1e-4 * mesh.diagonal()), glm::reflect(ray.direction, e.normal)};
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays) {
+  const Camera& c = scene.camera;
+  const PinholeCamera pinhole(c);
+  std::vector<bool> light(std::size_t(c.width) * std::size_t(c.height), false);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      // 8 x 8 rays a pixel: a light seen edge-on covers slivers of pixels.
+      for (int k = 0; k < 64; ++k)
+        if (sees_emitter(scene, mesh, rays,
+                         pinhole.ray(x + (k % 8 + 0.5) / 8, y + (k / 8 + 0.5) / 8))) {
+          light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
+          break;
+        }
+  std::vector<bool> near = light;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int sx = x + dx, sy = y + dy;
+          if (sx >= 0 && sy >= 0 && sx < c.width && sy < c.height &&
+              light[std::size_t(sy) * std::size_t(c.width) + std::size_t(sx)])
+            near[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
+        }
+  return near;
+}
+
+ErrorEstimate estimate_error(const Scene& scene, const Solution& solution,
+                             const ErrorEstimateSettings& settings) {
+  auto t0 = Clock::now();
+  // The view at most max_height rows, 4 x 4 rays a pixel (as the benchmarks measure).
+  Scene view = scene;
+  if (view.camera.height > settings.max_height) {
+    view.camera.width = std::max(
+        1, int(std::lround(double(view.camera.width) * settings.max_height / view.camera.height)));
+    view.camera.height = settings.max_height;
+  }
+  view.camera.antialias = std::max(view.camera.antialias, 4);
+  const Image image = render(view, solution);
+  const std::vector<bool> emitter = emitter_pixels(view, *solution.mesh, *solution.rays);
+
+  std::vector<PixelIndex> lit;
+  for (int y = 0; y < view.camera.height; ++y)
+    for (int x = 0; x < view.camera.width; ++x)
+      if (!emitter[std::size_t(y) * std::size_t(view.camera.width) + std::size_t(x)])
+        lit.push_back({x, y});
+  std::mt19937_64 rng(settings.seed);
+  std::shuffle(lit.begin(), lit.end(), rng);
+  lit.resize(std::min(lit.size(), std::size_t(std::max(1, settings.pixels))));
+  const std::vector<TracedPixel> traced =
+      trace_pixels(view, *solution.mesh, *solution.rays, lit, {settings.paths, settings.seed + 1});
+
+  // E|a - r'|^2 = |a - r|^2 + var(r') and E|r'|^2 = |r|^2 + var(r') for the traced r'.
+  constexpr int kGroups = 8;
+  double diff[kGroups] = {}, norm[kGroups] = {}, noise[kGroups] = {};
+  for (std::size_t i = 0; i < traced.size(); ++i) {
+    const TracedPixel& t = traced[i];
+    const Rgb a = image.at(t.pixel.x, t.pixel.y);
+    const Rgb d = a - t.radiance;
+    diff[i % kGroups] += glm::dot(d, d);
+    norm[i % kGroups] += glm::dot(t.radiance, t.radiance);
+    noise[i % kGroups] += t.variance;
+  }
+  auto relative = [](double d, double n, double v) {
+    return std::sqrt(std::max(0.0, d - v) / std::max(1e-300, n - v));
+  };
+  ErrorEstimate e;
+  e.pixels = int(traced.size());
+  e.relative_rms = relative(std::accumulate(diff, diff + kGroups, 0.0),
+                            std::accumulate(norm, norm + kGroups, 0.0),
+                            std::accumulate(noise, noise + kGroups, 0.0));
+  double spread = 0;
+  for (int g = 0; g < kGroups; ++g) {
+    const double r = relative(diff[g], norm[g], noise[g]) - e.relative_rms;
+    spread += r * r;
+  }
+  e.standard_error = std::sqrt(spread / (kGroups - 1)) / std::sqrt(double(kGroups));
+  e.seconds = seconds_since(t0);
+  return e;
+}
+
+}  // namespace bumprad
