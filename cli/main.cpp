@@ -17,7 +17,7 @@ namespace {
 constexpr const char* kHelp =
     "bumprad: progressive radiosity with bump textures (Chen & Wu 1990)\n"
     "usage:\n"
-    "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
+    "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R] [--tolerance T]\n"
     "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
     "  bumprad reference SCENE -o REF.exr [--spp N] [--seed S]   path-traced ground truth\n"

@@ -23,8 +23,10 @@ namespace bumprad {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R]\n"
+    "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R] [--tolerance T]\n"
     "                      [--export-solution S.json] [--bump B.json] [--save-map M]\n"
+    "  --tolerance T: solve on until the image's estimated error against path-traced ground\n"
+    "                 truth is below T (e.g. 0.02), or stops falling; prints the estimate\n"
     "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
 
 struct RenderArgs {
@@ -48,6 +50,16 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
     }
     throw UsageError(flag + ": \"" + v + "\" is not an integer");
   };
+  auto number = [&](std::size_t& i) {
+    std::string flag(args[i]), v = value(i);
+    try {
+      std::size_t used = 0;
+      double x = std::stod(v, &used);
+      if (used == v.size()) return x;
+    } catch (const std::exception&) {
+    }
+    throw UsageError(flag + ": \"" + v + "\" is not a number");
+  };
   for (std::size_t i = 0; i < args.size(); ++i) {
     std::string_view a = args[i];
     if (a == "-o" || a == "--output")
@@ -56,6 +68,8 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
       r.overrides["max_shots"] = integer(i);
     else if (a == "--hemicube")
       r.overrides["hemicube_resolution"] = integer(i);
+    else if (a == "--tolerance")
+      r.overrides["tolerance"] = number(i);
     else if (a == "--export-solution")
       r.solution = value(i);
     else if (a == "--bump")
@@ -90,7 +104,9 @@ int render_command(std::span<const std::string_view> args) {
     try {
       apply_solver_settings(a.overrides, scene.solver, "");
     } catch (const SceneError& e) {
-      std::string flag = e.pointer() == "/max_shots" ? "--shots" : "--hemicube";
+      const std::string flag = e.pointer() == "/max_shots"   ? "--shots"
+                               : e.pointer() == "/tolerance" ? "--tolerance"
+                                                             : "--hemicube";
       std::string msg = e.what();
       throw UsageError(flag + msg.substr(msg.find(':')));
     }
@@ -123,6 +139,12 @@ int render_command(std::span<const std::string_view> args) {
         a.output.c_str(), image.width, image.height, stats.shots, stats.elements,
         solution.mesh->patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve,
         seconds_view);
+    if (stats.estimated_error > 0)
+      std::printf(
+          "estimated error against path-traced ground truth: %.1f %% +- %.1f %% (tolerance "
+          "%.1f %%)\n",
+          100 * stats.estimated_error, 100 * stats.estimated_error_se,
+          100 * scene.solver.tolerance);
     if (stats.non_diffuse_elements)
       std::printf(
           "non-diffuse: %zu elements (specular transfer in the solve, reflections in "

@@ -72,6 +72,9 @@ json job_document(const JobRecord& j) {
               {"previews_s", j.seconds_previews}}},
             {"links", links}};
   if (j.step > 0) d["latest_step_url"] = step_url(j.id, j.step);
+  if (j.estimated_error > 0)
+    d["estimated_error"] = {{"relative_rms", j.estimated_error},
+                            {"standard_error", j.estimated_error_se}};
   if (!j.error.empty()) d["error"] = j.error;
   return d;
 }
@@ -115,6 +118,10 @@ JobRecord job_from_json(std::string_view text) {
   j.seconds_solve = t["solve_s"].number();
   j.seconds_texture = t["texture_s"].number();
   j.seconds_previews = t["previews_s"].number();
+  if (auto e = n.get("estimated_error")) {
+    j.estimated_error = (*e)["relative_rms"].number();
+    j.estimated_error_se = (*e)["standard_error"].number();
+  }
   if (auto e = n.get("error")) j.error = e->string();
   return j;
 }

@@ -32,6 +32,9 @@ struct JobRecord {
   int first_kept_step = 0;  // older step previews have been dropped
   std::size_t elements = 0, patches = 0;
   double seconds_solve = 0, seconds_texture = 0, seconds_previews = 0;
+  // With solver.tolerance: the image's estimated relative RMS error against ground truth
+  // and its standard error; 0 when not estimated.
+  double estimated_error = 0, estimated_error_se = 0;
   std::string error;  // why the job failed or was interrupted
 };
 

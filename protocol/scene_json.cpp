@@ -316,7 +316,7 @@ Object parse_object(const Node& n, std::size_t index,
 
 void apply_solver_settings(const json& settings, SolverSettings& s, const std::string& pointer) {
   Node n(settings, pointer);
-  n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "element_size",
+  n.allow_only({"hemicube_resolution", "max_shots", "unshot_fraction", "tolerance", "element_size",
                 "patch_elements", "preview_every", "rotate_hemicube", "seed", "texture", "map",
                 "form_factors", "alias_pixels", "adaptive", "direct_light"});
   if (auto v = n.get("hemicube_resolution")) {
@@ -327,6 +327,7 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
   }
   if (auto v = n.get("max_shots")) s.max_shots = int(v->integer(1, Limits::kMaxShots));
   if (auto v = n.get("unshot_fraction")) s.unshot_fraction = v->in_range(0, 1, true);
+  if (auto v = n.get("tolerance")) s.tolerance = v->in_range(0, 1, true);
   if (auto v = n.get("element_size")) s.element_size = v->positive();
   if (auto v = n.get("patch_elements")) s.patch_elements = int(v->integer(1, 64));
   if (auto v = n.get("preview_every")) s.preview_every = int(v->integer(1, Limits::kMaxShots));

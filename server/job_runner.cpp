@@ -116,6 +116,8 @@ void JobRunner::run(const std::string& worker, const Claim& claim, std::stop_sou
     record.elements = solution.stats.elements;
     record.seconds_solve = solution.stats.seconds_solve - drafts_s;
     record.seconds_texture = solution.stats.seconds_texture;
+    record.estimated_error = solution.stats.estimated_error;
+    record.estimated_error_se = solution.stats.estimated_error_se;
     store_.finish(worker, record, &results);
   } catch (const std::exception& e) {
     if (lease_lost) return;

@@ -35,6 +35,9 @@ struct SolveStats {
   double seconds_solve = 0;  // wall time, hemi-cube set-up included, texture work excluded
   double unshot_fraction = 0;
   double seconds_texture = 0;  // building the perturbed map (gather pass or shooting)
+  // With SolverSettings::tolerance: the image's estimated relative RMS error against ground
+  // truth and its standard error (error_estimate.h); 0 when not estimated.
+  double estimated_error = 0, estimated_error_se = 0;
   std::size_t perturbed_elements = 0;
   std::size_t directions = 0;            // sampled perturbed normals per vertex
   std::size_t non_diffuse_elements = 0;  // with a specular fraction
@@ -63,6 +66,8 @@ class ProgressiveSolver {
   bool shoot();
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;
+  // A new unshot-power threshold: run() then goes on to it.
+  void set_unshot_target(double fraction) { settings_.unshot_fraction = fraction; }
   // Shoots until done(); calls on_step after every `preview_every` shots and at the end.
   // on_step returning false stops the solve early; so does `stop`, checked after every
   // shot (a cancelled job stops within one shot). No final call is made after a stop.

@@ -158,10 +158,15 @@ struct SolverSettings {
   int hemicube_resolution = 150;  // pixels across the top face; even
   int max_shots = 1000;
   double unshot_fraction = 0.01;  // stop once unshot power / emitted power falls below this
-  double element_size = 0;        // 0: a sixteenth of the scene's bounding-box diagonal
-  int patch_elements = 2;         // elements per patch side (patches shoot, elements receive)
-  int preview_every = 10;         // shots per refinement step (callback, preview)
-  bool rotate_hemicube = true;    // random rotation about N per shot against aliasing
+  // Target relative RMS error of the image against ground truth; 0: off. When set, the solve
+  // estimates its error (solver/error_estimate.h) once it reaches unshot_fraction, and shoots
+  // on to a third of the unshot power while the estimate is above the target, falls, and
+  // max_shots allows. SolveStats reports the estimate.
+  double tolerance = 0;
+  double element_size = 0;      // 0: a sixteenth of the scene's bounding-box diagonal
+  int patch_elements = 2;       // elements per patch side (patches shoot, elements receive)
+  int preview_every = 10;       // shots per refinement step (callback, preview)
+  bool rotate_hemicube = true;  // random rotation about N per shot against aliasing
   FormFactorMethod form_factors = FormFactorMethod::Hemicube;
   // Hemi-cube shots: receivers expected to cover fewer pixels than this get ray-cast form
   // factors instead (aliasing); 0 turns the fallback off.

@@ -1,6 +1,7 @@
 #include "solver/solution.h"
 
 #include "common/stopwatch.h"
+#include "solver/error_estimate.h"
 #include "solver/lights.h"
 #include "solver/subdivision.h"
 #include "solver/vertex_radiosity.h"
@@ -25,23 +26,42 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get());
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
-  solver.run(
-      [&](const Snapshot& s) {
-        if (!on_step) return true;
-        if (mode == TextureMode::Shoot) {
-          auto t = Clock::now();
-          out.map->finish_shooting(scene.materials);
-          texture_s += seconds_since(t);
-        }
-        return on_step(s, out);
-      },
-      stop);
-  out.radiosity = solver.radiosity();
-  out.display = solver.display_radiosity();
+  const auto step = [&](const Snapshot& s) {
+    if (!on_step) return true;
+    if (mode == TextureMode::Shoot) {
+      auto t = Clock::now();
+      out.map->finish_shooting(scene.materials);
+      texture_s += seconds_since(t);
+    }
+    return on_step(s, out);
+  };
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
-  if (exact) out.direct = solver.direct();
-  out.stats.shots = solver.shots();
-  out.stats.unshot_fraction = solver.unshot_fraction();
+  const auto take = [&] {
+    out.radiosity = solver.radiosity();
+    out.display = solver.display_radiosity();
+    if (exact) out.direct = solver.direct();
+    out.stats.shots = solver.shots();
+    out.stats.unshot_fraction = solver.unshot_fraction();
+  };
+  solver.run(step, stop);
+  take();
+  // A tolerance: estimate, and shoot on while that helps (the estimate falls by a tenth or
+  // more a round); what no shot can lower (the mesh, the hemi-cube) stays, and is reported.
+  double estimate_s = 0;
+  for (double previous = 0; scene.solver.tolerance > 0 && !stop.stop_requested();) {
+    if (mode == TextureMode::Shoot) out.map->finish_shooting(scene.materials);
+    const ErrorEstimate e = estimate_error(scene, out);
+    estimate_s += e.seconds;
+    out.stats.estimated_error = e.relative_rms;
+    out.stats.estimated_error_se = e.standard_error;
+    if (e.relative_rms <= scene.solver.tolerance || solver.shots() >= scene.solver.max_shots ||
+        (previous > 0 && e.relative_rms > 0.9 * previous) || solver.unshot_fraction() <= 1e-4)
+      break;
+    previous = e.relative_rms;
+    solver.set_unshot_target(solver.unshot_fraction() / 3);
+    solver.run(step, stop);
+    take();
+  }
   if (stop.stop_requested()) return out;
 
   auto t1 = Clock::now();
@@ -64,7 +84,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   for (const Element& e : mesh.elements)
     out.stats.non_diffuse_elements += scene.materials[std::size_t(e.material)].specular > 0;
   out.stats.seconds_texture = texture_s;
-  out.stats.seconds_solve = seconds_since(t0) - texture_s;
+  out.stats.seconds_solve = seconds_since(t0) - texture_s - estimate_s;
   count_map_stats(scene, out);
   return out;
 }

@@ -83,9 +83,13 @@ TEST(ApiJson, JobRecordsRoundTrip) {
   j.patches = 321;
   j.seconds_solve = 1.5;
   j.error = "the server stopped while the job ran";
+  EXPECT_FALSE(json::parse(job_to_json(j)).contains("estimated_error")) << "none without one";
+  j.estimated_error = 0.021;
+  j.estimated_error_se = 0.002;
   JobRecord back = job_from_json(job_to_json(j));
   EXPECT_EQ(job_to_json(back), job_to_json(j));
   json d = json::parse(job_to_json(j));
+  EXPECT_EQ(d["estimated_error"]["relative_rms"], 0.021);
   EXPECT_EQ(d["state"], "interrupted");
   EXPECT_EQ(d["latest_step_url"], "/v1/jobs/0123abcd/steps/4.png");
   EXPECT_FALSE(d["links"].contains("image")) << "only done jobs link their image";
