@@ -65,6 +65,18 @@ TEST_F(RenderCli, RendersTheCornellBoxAndExportsTheSolution) {
   EXPECT_TRUE(lit_light);
 }
 
+// A tolerance the solve cannot reach within its shots: it stops there and prints what it
+// estimates (solver/error_estimate.cpp; tests/solver/ground_truth_test.cpp checks the value).
+TEST_F(RenderCli, AToleranceReportsTheEstimatedError) {
+  Process r = run("render builtin:cornell --shots 30 --tolerance 0.001 -o " + path("t.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("30 shots"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("estimated error against path-traced ground truth: "), std::string::npos)
+      << r.output;
+  r = run("render builtin:cornell --shots 30 -o " + path("u.png"));
+  EXPECT_EQ(r.output.find("estimated error"), std::string::npos) << "only with a tolerance";
+}
+
 TEST_F(RenderCli, WritesFiniteHdrExr) {
   Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 -o " + path("w.exr"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -98,6 +110,12 @@ TEST_F(RenderCli, UsageErrors) {
   r = run("render builtin:cornell -o " + path("x.png") + " --shots many");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--shots: \"many\" is not an integer"), std::string::npos);
+  r = run("render builtin:cornell -o " + path("x.png") + " --tolerance tight");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--tolerance: \"tight\" is not a number"), std::string::npos);
+  r = run("render builtin:cornell -o " + path("x.png") + " --tolerance 2");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--tolerance: "), std::string::npos) << r.output;
   r = run("render builtin:nowhere -o " + path("x.png"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("unknown built-in scene \"nowhere\""), std::string::npos);

@@ -44,6 +44,21 @@ TEST(Api, SubmitsAreParsedOffTheNetworkThreadAndRun) {
   EXPECT_EQ(std::get<Response>(stream.action)[http::field::content_type], "text/event-stream");
 }
 
+// solver.tolerance travels from the request to the solve, and the estimate back to the job.
+TEST(Api, AJobWithAToleranceReportsItsEstimatedError) {
+  test::InProcessServer s(test::fresh_temp_dir("api-tolerance"));
+  json scene = json::parse(test::small_scene_json(20));
+  scene["solver"]["tolerance"] = 0.001;  // out of reach in 20 shots: the estimate is kept
+  Response accepted = s.answer(request(verb::post, "/v1/jobs", json{{"scene", scene}}.dump()));
+  ASSERT_EQ(accepted.result_int(), 202) << accepted.body();
+  const std::string id = json::parse(accepted.body())["id"];
+  s.wait_for(id, JobState::Done);
+  const json job = json::parse(s.answer(request(verb::get, "/v1/jobs/" + id)).body());
+  ASSERT_TRUE(job.contains("estimated_error")) << job.dump();
+  EXPECT_GT(job["estimated_error"]["relative_rms"].get<double>(), 0);
+  EXPECT_GT(job["estimated_error"]["standard_error"].get<double>(), 0);
+}
+
 TEST(Api, RetexturesRenderOnTheirPoolAndStopWhenAsked) {
   test::InProcessServer s(test::fresh_temp_dir("api"));
   Response accepted = s.answer(request(verb::post, "/v1/jobs", test::small_job_json(5, 5)));
