@@ -1,5 +1,7 @@
 #include "tests/test_scenes.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -69,6 +71,17 @@ double glossy_highlight_radiance(const Scene& scene) {
       sum += lobe.pdf(d) * d.z / (r * r);  // the emitter faces -z: cos' = d.z
     }
   return scene.materials[1].emission.g / std::numbers::pi * sum * area / (kN * kN);
+}
+
+PixelSpread pixel_spread(const Image& image) {
+  double sum = 0, square = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      sum += image.at(x, y).g;
+      square += image.at(x, y).g * image.at(x, y).g;
+    }
+  const double n = image.width * image.height, mean = sum / n;
+  return {mean, std::sqrt(std::max(0.0, square / n - mean * mean)) / mean};
 }
 
 }  // namespace bumprad::test

@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "solver/image.h"
 #include "solver/scene.h"
 
 namespace bumprad::test {
@@ -21,6 +22,12 @@ Scene glossy_highlight();
 // The radiance the camera of glossy_highlight() sees at the origin: the integral of
 // (E / pi) lobe.pdf(d) over the emitter, by a 64 x 64 midpoint rule on its area.
 double glossy_highlight_radiance(const Scene& scene);
+// The green channel's mean over an image's pixels, and their scatter (standard deviation
+// over the mean): how quiet a highlight is.
+struct PixelSpread {
+  double mean, scatter;
+};
+PixelSpread pixel_spread(const Image& image);
 
 // A scene with one grey material of reflectance `rho` and emission `emission`.
 Scene scene_of(std::vector<Object> objects, double rho = 0.5, double emission = 0);

@@ -188,16 +188,9 @@ TEST(ViewPass, AGlossyHighlightIsExactAndQuiet) {
   s.solver.unshot_fraction = 0;
   const double expected = test::glossy_highlight_radiance(s);
   const Image image = render(s, solve(s));
-  double sum = 0, square = 0;
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      sum += image.at(x, y).g;
-      square += image.at(x, y).g * image.at(x, y).g;
-    }
-  const double n = image.width * image.height, mean = sum / n;
-  const double scatter = std::sqrt(std::max(0.0, square / n - mean * mean)) / mean;
-  EXPECT_NEAR(mean / expected, 1, 0.02);
-  EXPECT_LT(scatter, 0.1);
+  const test::PixelSpread spread = test::pixel_spread(image);
+  EXPECT_NEAR(spread.mean / expected, 1, 0.02);
+  EXPECT_LT(spread.scatter, 0.1);
 }
 
 TEST(ViewPass, BackFacesAreBlack) {
