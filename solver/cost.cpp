@@ -1,6 +1,7 @@
 #include "solver/cost.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "solver/mesh.h"
@@ -94,13 +95,26 @@ CostEstimate estimate_cost(const Scene& scene) {
     if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
+  // solver.tolerance: a round of error estimation (1,024 pixels x 1,024 paths of about ten
+  // rays, and a view of at most 256 x 128 at 4 x 4 rays) each time the unshot target falls
+  // to a third, down to 1e-4.
+  double rounds = 0;
+  if (s.tolerance > 0) {
+    rounds = 1 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
+    Scene view = scene;
+    view.camera.width = std::min(view.camera.width, 256);
+    view.camera.height = std::min(view.camera.height, 128);
+    view.camera.antialias = 4;
+    e.solve_s += rounds * (1024.0 * 1024 * 10 * kPerRay_s + estimate_render_cost(view).render_s);
+  }
   e.solve_terms = count(elements) + " elements x " + count(s.max_shots) + " shots at hemi-cube " +
                   count(s.hemicube_resolution) +
                   (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
                                          : std::string()) +
                   (directions > 0 ? ", " + count(bumpy) + " bumpy elements x " + count(directions) +
                                         " map directions"
-                                  : std::string());
+                                  : std::string()) +
+                  (rounds > 0 ? ", up to " + count(rounds) + " error estimates" : std::string());
   return e;
 }
 

@@ -10,7 +10,8 @@
 namespace bumprad {
 
 struct CostEstimate {
-  double solve_s = 0;   // every shot at max_shots, every adaptive level, and the gather
+  double solve_s = 0;   // every shot at max_shots, every adaptive level, the gather, and the
+                        // error estimates of a tolerance
   double render_s = 0;  // one full-quality view pass of the scene's camera
   std::string solve_terms, render_terms;  // the counts behind each, for messages
 };

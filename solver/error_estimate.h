@@ -1,5 +1,5 @@
 // How far a solution's image is from ground truth, estimated without a reference image: the
-// path tracer traces a random sample of the pixels of the view (at most 128 rows), bumprad
+// path tracer traces a random sample of the pixels of the view (at most 128 x 256), bumprad
 // renders the same view, and the relative RMS error over the sampled lit pixels is taken
 // with the path tracer's own noise (known per pixel) removed. The job's reported error and
 // the solver's tolerance (SolverSettings::tolerance) rest on it.
@@ -25,8 +25,8 @@ struct ErrorEstimate {
 
 struct ErrorEstimateSettings {
   int pixels = 1024;
-  int paths = 1024;  // a pixel
-  int max_height = 128;
+  int paths = 1024;      // a pixel
+  int max_height = 128;  // the view's rows; its columns at most twice that
   std::uint64_t seed = 1;
 };
 

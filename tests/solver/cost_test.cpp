@@ -35,6 +35,12 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
   more.camera.antialias *= 2;
   EXPECT_NEAR(estimate_render_cost(more).render_s, 8 * base.render_s, 1e-9 * base.render_s);
   EXPECT_EQ(estimate_cost(more).solve_s, base.solve_s);
+  more = s;
+  more.solver.tolerance = 0.02;  // error estimates, at most one a third of the unshot power
+  const CostEstimate tolerant = estimate_cost(more);
+  EXPECT_GT(tolerant.solve_s, base.solve_s);
+  EXPECT_NE(tolerant.solve_terms.find("up to 6 error estimates"), std::string::npos)
+      << tolerant.solve_terms;  // 1 % down to 1e-4: 1 + ceil(log3 100)
 }
 
 // The built-in scenes solve and render in 1-3 s here (README); the estimate must not be
