@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "bench/truth_metrics.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
@@ -118,10 +120,40 @@ void point_sweep(const char* regime, double z) {
   }
 }
 
+// Real spherical harmonics (orthonormal) of bands 0, 1, 2 and 4 at a unit direction: band 3
+// is left out because the clamped cosine has none (Ramamoorthi & Hanrahan 2001), so 18
+// numbers carry what 25 would.
+std::array<double, 18> sh_basis(const Vec3& d) {
+  const double x = d.x, y = d.y, z = d.z, z2 = z * z;
+  return {0.282095,
+          -0.488603 * y,
+          0.488603 * z,
+          -0.488603 * x,
+          1.092548 * x * y,
+          -1.092548 * y * z,
+          0.315392 * (3 * z2 - 1),
+          -1.092548 * x * z,
+          0.546274 * (x * x - y * y),
+          2.503343 * x * y * (x * x - y * y),
+          -1.770131 * y * z * (3 * x * x - y * y),
+          0.946175 * x * y * (7 * z2 - 1),
+          -0.669047 * y * z * (7 * z2 - 3),
+          0.105786 * (35 * z2 * z2 - 30 * z2 + 3),
+          -0.669047 * x * z * (7 * z2 - 3),
+          0.473087 * (x * x - y * y) * (7 * z2 - 1),
+          -1.770131 * x * z * (x * x - 3 * y * y),
+          0.625836 * (x * x * (x * x - 3 * y * y) - y * y * (3 * x * x - y * y))};
+}
+
 // Part "perturbed": B'(N') from the map against rho * E * F(dA -> light, N') exact, for a
 // 10 cm receiver one unit below a 1 x 0.6 light, at 300 random normals tilted up to 45
 // degrees (the outer ring), interpolated between the samples.
-// seconds: the texture work; error: mean |B' - exact| / mean exact.
+// seconds: the texture work; error: mean |B' - exact| / mean exact. Setting: numbers per
+// colour channel a vertex stores (sampled normals, or SH coefficients).
+// Rows "sh": the other representation at equal storage, spherical harmonics of the incident
+// light with the clamped cosine's convolution (Ramamoorthi & Hanrahan 2001), bands 0-1 (4),
+// 0-2 (9) and 0-2 + 4 (18); their coefficients projected exactly (a 64 x 64 rule over the
+// light), so the row is the best that representation can do, not a hemi-cube estimate.
 void perturbed_sweep() {
   constexpr double kRho = 0.5;
   const std::array<Vec3, 4> light = {Vec3(-0.2, -0.4, 1), Vec3(-0.2, 0.2, 1), Vec3(0.8, 0.2, 1),
@@ -220,6 +252,48 @@ void perturbed_sweep() {
       std::printf("perturbed,%s,%zu,%.4e,%.4e\n", mode == TextureMode::Gather ? "gather" : "shoot",
                   map.directions().size(), seconds / double(map.vertex_count()), err / sum);
     }
+  }
+  // The SH rows, at the same vertices and normals as the gathered map.
+  const PerturbedMap vertices(mesh, {true, false}, MapSettings{});
+  const std::array<double, 5> band_weight = {std::numbers::pi, 2 * std::numbers::pi / 3,
+                                             std::numbers::pi / 4, 0, -std::numbers::pi / 24};
+  const std::array<int, 18> band = {0, 1, 1, 1, 2, 2, 2, 2, 2, 4, 4, 4, 4, 4, 4, 4, 4, 4};
+  for (int count : {4, 9, 18}) {
+    double err = 0, sum = 0;
+    auto t0 = Clock::now();
+    for (std::uint32_t slot = 0; slot < vertices.vertex_count(); ++slot) {
+      const Vertex& v = mesh.vertices[vertices.vertex_of(slot)];
+      // Incident radiance E / pi over the light: c_lm = sum L Y_lm dw, dw = cos' dA / r^2.
+      std::array<double, 18> c{};
+      constexpr int kN = 64;
+      for (int a = 0; a < kN; ++a)
+        for (int b = 0; b < kN; ++b) {
+          const Vec3 y = light[0] + (light[1] - light[0]) * ((a + 0.5) / kN) +
+                         (light[3] - light[0]) * ((b + 0.5) / kN);
+          const Vec3 d = y - v.position;
+          const double r2 = glm::dot(d, d);
+          const double area = 1.0 * 0.6 / (kN * kN);
+          const Vec3 w = d / std::sqrt(r2);
+          const double dw = w.z * area / r2;  // the light faces -z
+          const std::array<double, 18> yb = sh_basis(w);
+          for (int k = 0; k < count; ++k)
+            c[std::size_t(k)] += yb[std::size_t(k)] * dw / std::numbers::pi;
+        }
+      Frame frame = tangent_frame(v.normal, v.dpdu);
+      for (const Vec3& local : normals) {
+        const Vec3 n = frame.to_world(local);
+        const std::array<double, 18> yb = sh_basis(n);
+        double irradiance = 0;
+        for (int k = 0; k < count; ++k)
+          irradiance += band_weight[std::size_t(band[std::size_t(k)])] * c[std::size_t(k)] *
+                        yb[std::size_t(k)];
+        const double exact = exact_at(v.position, n);
+        err += std::abs(kRho * irradiance - exact);
+        sum += exact;
+      }
+    }
+    std::printf("perturbed,sh,%d,%.4e,%.4e\n", count,
+                seconds_since(t0) / double(vertices.vertex_count()), err / sum);
   }
 }
 

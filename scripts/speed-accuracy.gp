@@ -21,13 +21,16 @@ plot rows("point-far","hemicube") using 4:5 w lp pt 7 t "hemi-cube R 16-512, dis
      rows("point-near","hemicube") using 4:5 w lp pt 6 t "hemi-cube, distance 0.15", \
      rows("point-near","ray_cast") using 4:5 w lp pt 4 t "ray cast, distance 0.15"
 
-set title "Perturbed radiosity B'(N') vs exact (300 normals, tilt <= 45 deg)"
-set xlabel "seconds of texture work per map vertex"
+set title "Perturbed radiosity B'(N') vs exact (300 normals, tilt <= 45 deg), by storage"
+set xlabel "bytes per map vertex (RGB doubles: 24 per sampled normal or SH coefficient)"
 set ylabel "mean |B' - B'_{exact}| / mean B'_{exact}"
-plot rows("perturbed","gather") using 4:5:3 w lp pt 7 t "gather (hemi-cube 150 per vertex)", \
-     rows("perturbed","gather") using 4:5:3 w labels offset 0,0.8 font ",8" notitle, \
-     rows("perturbed","shoot") using 4:5:3 w lp pt 5 t "shoot (with 256 shots)", \
-     rows("perturbed","shoot") using 4:5:3 w labels offset 0,-0.8 font ",8" notitle
+set format x "%g"
+plot rows("perturbed","gather") using ($3*24):5 w lp pt 7 t "sampled normals, gathered (hemi-cube 150 per vertex)", \
+     rows("perturbed","gather") using ($3*24):5:3 w labels offset 0,0.8 font ",8" notitle, \
+     rows("perturbed","shoot") using ($3*24):5 w lp pt 5 t "sampled normals, shot (256 shots)", \
+     rows("perturbed","sh") using ($3*24):5 w lp pt 9 t "spherical harmonics, bands 0-1 / 0-2 / 0-2+4, exact projection", \
+     rows("perturbed","sh") using ($3*24):5:3 w labels offset 0,-0.8 font ",8" notitle
+set format x "10^{%L}"
 
 do for [scene in "cornell wrinkled-box paper-room"] {
   set title sprintf("%s (128 x 128) vs path-traced ground truth", scene)
