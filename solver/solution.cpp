@@ -47,6 +47,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   take();
   // A tolerance: estimate, and shoot on while that helps (the estimate falls by a tenth or
   // more a round); what no shot can lower (the mesh, the hemi-cube) stays, and is reported.
+  // In gather mode the map comes after the solve, so these rounds see the bumps flat.
   double estimate_s = 0;
   for (double previous = 0; scene.solver.tolerance > 0 && !stop.stop_requested();) {
     if (mode == TextureMode::Shoot) out.map->finish_shooting(scene.materials);
@@ -79,6 +80,14 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
     if (stop.stop_requested()) return out;
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;
+  if (scene.solver.tolerance > 0 && mode == TextureMode::Gather) {
+    // The rounds above saw the bumps flat (the map is gathered only now): report the image
+    // as it will be rendered.
+    const ErrorEstimate e = estimate_error(scene, out);
+    estimate_s += e.seconds;
+    out.stats.estimated_error = e.relative_rms;
+    out.stats.estimated_error_se = e.standard_error;
+  }
 
   out.stats.elements = mesh.elements.size();
   for (const Element& e : mesh.elements)
