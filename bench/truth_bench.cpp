@@ -6,7 +6,8 @@
 // The reference is rendered with seed 1 at --spp (or read from REF.exr when that file
 // exists, and written there when it does not); the path tracer's own curve uses seed 2, so
 // its noise is independent of the reference's. With BUMPRAD_TRUTH_IMAGES=PREFIX set, both
-// images are also written as PREFIX-bumprad.exr and PREFIX-reference.exr.
+// images are also written as PREFIX-bumprad.exr and PREFIX-reference.exr, and where they
+// differ as PREFIX-difference.png (red: bumprad brighter, blue: darker, full at 20 %).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -72,6 +73,8 @@ int main(int argc, char** argv) {
     if (const char* out = std::getenv("BUMPRAD_TRUTH_IMAGES")) {  // for difference images
       write_image(std::string(out) + "-bumprad.exr", image, 1);
       write_image(std::string(out) + "-reference.exr", reference, 1);
+      write_image(std::string(out) + "-difference.png", difference_image(image, reference, emitter),
+                  1);
     }
 
     // The path tracer at n = spp/4 samples is off by sqrt(noise_n^2 + noise_ref^2) with

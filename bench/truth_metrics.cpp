@@ -20,6 +20,34 @@ Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emit
   return {std::sqrt(diff[1] / norm[1]), std::sqrt(diff[0] / norm[0]), sa / sr};
 }
 
+Image difference_image(const Image& a, const Image& r, const std::vector<bool>& emitter) {
+  auto mean_luminance = [](const Image& im, int x, int y) {
+    double sum = 0;
+    int n = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int sx = x + dx, sy = y + dy;
+        if (sx < 0 || sy < 0 || sx >= im.width || sy >= im.height) continue;
+        const Rgb c = im.at(sx, sy);
+        sum += c.r + c.g + c.b;
+        ++n;
+      }
+    return sum / n;
+  };
+  Image out(r.width, r.height);
+  for (int y = 0; y < r.height; ++y)
+    for (int x = 0; x < r.width; ++x) {
+      if (emitter[std::size_t(y) * std::size_t(r.width) + std::size_t(x)]) continue;
+      const double ref = mean_luminance(r, x, y);
+      if (!(ref > 0)) continue;
+      const double off = std::clamp((mean_luminance(a, x, y) / ref - 1) / 0.2, -1.0, 1.0);
+      // PNG encoding applies the sRGB curve: undo it, so that the shade is linear in `off`.
+      const double shade = std::pow(std::abs(off), 2.2);
+      out.set(x, y, off > 0 ? Rgb(shade, 0, 0) : Rgb(0, 0, shade));
+    }
+  return out;
+}
+
 double without_noise(double measured, double noise) {
   return std::sqrt(std::max(0.0, measured * measured - noise * noise));
 }

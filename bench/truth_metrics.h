@@ -21,6 +21,11 @@ struct Comparison {
 // sqrt(sum |a - r|^2 / sum |r|^2), linear radiance, every channel.
 Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emitter);
 
+// Where a differs from r: per pixel, a / r - 1 of the 3 x 3 mean luminance, red where a is
+// brighter and blue where darker, full at +-20 %; emitter pixels black. For finding where the
+// error sits (shadow edges, corners, a face lit wrongly).
+Image difference_image(const Image& a, const Image& r, const std::vector<bool>& emitter);
+
 // An error measured against a noisy reference, with the reference's own noise (relative
 // RMS) taken out: independent errors add in squares.
 double without_noise(double measured, double noise);
