@@ -231,16 +231,23 @@ void ProgressiveSolver::shoot_specular(std::uint32_t pi, const Vec3& origin, con
   // source seen in many pixels gives each pixel only its share of the 32 strata, the
   // neighbours taking the others: a large source costs one sample a pixel, not 32 (the
   // sphere of paper-room spent 24 ms a shot here).
-  const double n = shininess_[mesh_.patches[pi].first];
+  const Patch& shooter = mesh_.patches[pi];
+  const double n = shininess_[shooter.first];
+  // A curved glossy patch (a sphere's) reflects about its elements' normals in turn, not
+  // about its centre's alone: the light it throws spreads as the surface turns.
+  std::vector<Vec3> normals;
+  for (std::uint32_t e = shooter.first; e < shooter.first + shooter.count; ++e)
+    normals.push_back(frame.to_local(mesh_.elements[e].normal));
   constexpr int kLobe = 32;
   auto reflect = [&](std::uint32_t p, const Rgb& power, const Rgb& emission, int count, int first) {
     if (n <= 0) return deposit(d.mirror(p), power, emission);
-    Vec3 in(d.direction(p));
-    const PhongLobe lobe(glm::normalize(Vec3(-in.x, -in.y, in.z)), Vec3(0, 0, 1), n);
+    const Vec3 in(d.direction(p));
     std::array<std::size_t, kLobe> out;
     int valid = 0;
     for (int j = 0; j < count; ++j) {
       const int k = ((first + j) * 13) % kLobe;  // 13 is prime to 32: each stratum once
+      const PhongLobe lobe(glm::reflect(-in, normals[std::size_t(first + j) % normals.size()]),
+                           Vec3(0, 0, 1), n);
       // Each ring turned, the whole pattern turned per pixel (golden angle).
       const double turn = ((k / 4) * 0.7 + 2.399963 * p) / (2 * std::numbers::pi);
       std::size_t q =
