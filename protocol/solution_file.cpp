@@ -15,8 +15,9 @@ namespace bumprad {
 namespace {
 
 constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
-// Version 2 added the adaptive refinements; version 1 files (none) still load.
-constexpr std::uint32_t kVersion = 3;
+// Version 2 added the adaptive refinements, 3 the direct part of B, 4 the estimated error
+// (solver.tolerance); version 1 files (none) still load.
+constexpr std::uint32_t kVersion = 4;
 static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
 
 // FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
@@ -109,6 +110,8 @@ std::string encode_solution(std::string_view scene_json, const Solution& solutio
     for (std::uint32_t i : split) w.put(i);
   }
   w.put_rgbs(solution.direct);
+  w.put(s.estimated_error);
+  w.put(s.estimated_error_se);
   w.put(fnv1a(w.bytes().data(), w.bytes().size()));
   return std::move(w.bytes());
 }
@@ -169,6 +172,10 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
   // Version 3: the direct part of B (exact direct light). Older files hold all light in
   // the radiosity and the map, and render so.
   if (version >= 3) s.direct = r.get_rgbs();
+  if (version >= 4) {
+    s.stats.estimated_error = r.get<double>();
+    s.stats.estimated_error_se = r.get<double>();
+  }
   try {
     s.mesh = refined_mesh(out.scene, s.refinements);
   } catch (const std::invalid_argument& e) {

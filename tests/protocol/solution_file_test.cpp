@@ -24,6 +24,7 @@ class SolutionFile : public ::testing::Test {
     auto doc = nlohmann::json::parse(*find_builtin_scene("wrinkled-box"));
     doc["solver"]["max_shots"] = 30;
     doc["solver"]["hemicube_resolution"] = 64;
+    doc["solver"]["tolerance"] = 0.5;  // met at once: one error estimate, kept in the file
     doc["camera"]["width"] = doc["camera"]["height"] = 96;
     text_ = doc.dump();
     scene_ = parse_scene(std::string_view(text_));
@@ -69,6 +70,9 @@ TEST_F(SolutionFile, RoundTripIsBitExact) {
     EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin())) << s;
   }
   EXPECT_EQ(back.solution.stats.shots, 30);
+  EXPECT_GT(solution_.stats.estimated_error, 0);
+  EXPECT_EQ(back.solution.stats.estimated_error, solution_.stats.estimated_error);
+  EXPECT_EQ(back.solution.stats.estimated_error_se, solution_.stats.estimated_error_se);
   EXPECT_EQ(back.solution.stats.perturbed_elements, solution_.stats.perturbed_elements);
   EXPECT_EQ(render(back.scene, back.solution).rgb, render(scene_, solution_).rgb);
 }
@@ -105,7 +109,7 @@ TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   std::string version = good;
   version[8] = 7;
   write(bad, version);
-  expect_refused(bad, "solution file format version 7; this build reads versions 1 to 3");
+  expect_refused(bad, "solution file format version 7; this build reads versions 1 to 4");
   write(bad, "\x89PNG\r\n\x1a\n and then some");
   expect_refused(bad, "not a bumprad solution file");
   expect_refused(dir_ / "missing.bumprad", "cannot open");
