@@ -9,6 +9,7 @@
 
 #include "common/stopwatch.h"
 #include "solver/camera.h"
+#include "solver/lights.h"
 #include "solver/path_tracer.h"
 #include "solver/solution.h"
 
@@ -30,7 +31,7 @@ bool sees_emitter(const Scene& scene, const Mesh& mesh, const RayScene& rays, Ra
     if (emits(m.emission)) return true;
     if (m.specular <= 0 || m.shininess > 0) return false;
     const Vec3 point = ray.origin + hit->t * ray.direction;
-    ray = {point + e.normal * (1e-4 * mesh.diagonal()), glm::reflect(ray.direction, e.normal)};
+    ray = {point + e.normal * ray_epsilon(mesh), glm::reflect(ray.direction, e.normal)};
   }
   return false;
 }
