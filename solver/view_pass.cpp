@@ -36,17 +36,19 @@ std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
                                const SurfaceDetail& detail) {
   if (detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
   const std::vector<Rgb> rho = element_reflectance(mesh, detail.materials);
+  std::vector<Rgb> mean(detail.materials.size());  // per textured material, once: an image
+  for (std::size_t k = 0; k < mean.size(); ++k)    // texture's mean reads all its texels
+    if (detail.materials[k].texture) mean[k] = texture_mean(*detail.materials[k].texture);
   std::vector<Rgb> values(radiosity.begin(), radiosity.end());
   for (std::size_t i = 0; i < values.size(); ++i) {
-    const Material& m = detail.materials[std::size_t(mesh.elements[i].material)];
+    const std::size_t material = std::size_t(mesh.elements[i].material);
+    const Material& m = detail.materials[material];
     Rgb reflected = values[i] - m.emission;
     if (!detail.open.empty() && detail.open[i] > 0 && detail.open[i] < 1)
       reflected /= detail.open[i];
-    if (m.texture) {
-      const Rgb mean = texture_mean(*m.texture);
+    if (m.texture)
       for (int c = 0; c < 3; ++c)
-        if (rho[i][c] > 0) reflected[c] *= mean[c] / rho[i][c];
-    }
+        if (rho[i][c] > 0) reflected[c] *= mean[material][c] / rho[i][c];
     values[i] = m.emission + reflected;
   }
   return vertex_radiosity(mesh, values, detail.open);
