@@ -18,12 +18,7 @@ class Random {
  public:
   explicit Random(std::uint64_t seed) : state_(seed) {}
   // Uniform in [0, 1).
-  double next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return double((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  }
+  double next() { return double(hash64(state_ += 0x9e3779b97f4a7c15ull) >> 11) * 0x1.0p-53; }
 
  private:
   std::uint64_t state_;
