@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <numbers>
-#include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -13,6 +12,7 @@
 #include "solver/camera.h"
 #include "solver/hemicube.h"
 #include "solver/lights.h"
+#include "solver/parallel.h"
 #include "solver/phong_lobe.h"
 #include "solver/random.h"
 #include "solver/texture.h"
@@ -148,18 +148,6 @@ PixelPaths trace_pixel(const PathTracer& tracer, const PinholeCamera& pinhole, i
   return {mean, (spread.r + spread.g + spread.b) / std::max(1.0, double(spp - 1))};
 }
 
-// Runs work(i) for i in [0, count) on every core, in order of i per thread; stops early.
-void parallel(int count, const std::function<void(int)>& work, std::stop_token stop) {
-  std::atomic<int> next{0};
-  auto run = [&] {
-    for (int i; !stop.stop_requested() && (i = next++) < count;) work(i);
-  };
-  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::jthread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(run);
-  run();
-}
-
 }  // namespace
 
 Image render_reference(const Scene& scene, const Mesh& mesh, const RayScene& rays,
@@ -171,7 +159,7 @@ Image render_reference(const Scene& scene, const Mesh& mesh, const RayScene& ray
   const int spp = std::max(1, settings.samples_per_pixel);
   Image image(width, height);
   std::atomic<int> rows_done{0};
-  parallel(
+  parallel_for(
       height,
       [&](int y) {
         for (int x = 0; x < width; ++x)
@@ -190,14 +178,12 @@ std::vector<TracedPixel> trace_pixels(const Scene& scene, const Mesh& mesh, cons
   const PinholeCamera pinhole(scene.camera);
   const int spp = std::max(1, settings.samples_per_pixel);
   std::vector<TracedPixel> out(pixels.size());
-  parallel(int(pixels.size()),
-           [&](int i) {
-             const PixelIndex& p = pixels[std::size_t(i)];
-             const PixelPaths t =
-                 trace_pixel(tracer, pinhole, scene.camera.width, p.x, p.y, spp, settings.seed);
-             out[std::size_t(i)] = {p, t.mean, t.variance};
-           },
-           {});
+  parallel_for(int(pixels.size()), [&](int i) {
+    const PixelIndex& p = pixels[std::size_t(i)];
+    const PixelPaths t =
+        trace_pixel(tracer, pinhole, scene.camera.width, p.x, p.y, spp, settings.seed);
+    out[std::size_t(i)] = {p, t.mean, t.variance};
+  });
   return out;
 }
 

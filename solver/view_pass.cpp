@@ -1,16 +1,15 @@
 #include "solver/view_pass.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <numbers>
-#include <thread>
 #include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "solver/bump.h"
 #include "solver/camera.h"
+#include "solver/parallel.h"
 #include "solver/phong_lobe.h"
 #include "solver/random.h"
 #include "solver/texture.h"
@@ -175,29 +174,25 @@ Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
   const PinholeCamera pinhole(camera);
   const int n = std::max(1, camera.antialias);
   Image image(camera.width, camera.height);
-  std::atomic<int> next_row{0};
-  auto work = [&] {
-    for (int y; !stop.stop_requested() && (y = next_row++) < camera.height;) {
-      for (int x = 0; x < camera.width; ++x) {
-        Random rng((std::uint64_t(y) << 32) | std::uint32_t(x));
-        Rgb sum(0);
-        // Samples on a sheared n x n grid (the canonical arrangement of Chiu, Shirley &
-        // Wang's multi-jittered sampling, without the jitter): one in each of the n x n
-        // cells and in each of the n^2 columns and rows, so an edge along the image's axes
-        // (walls, boxes) is covered in n^2 steps, not n. Fixed, so drafts do not shimmer.
-        for (int sy = 0; sy < n; ++sy)
-          for (int sx = 0; sx < n; ++sx) {
-            const double u = (sx + (sy + 0.5) / n) / n, v = (sy + (sx + 0.5) / n) / n;
-            sum += tracer.trace(pinhole.ray(x + u, y + v), 0, rng);
-          }
-        image.set(x, y, sum / (double(n * n) * std::numbers::pi));
-      }
-    }
-  };
-  unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::jthread> pool;
-  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
+  parallel_for(
+      camera.height,
+      [&](int y) {
+        for (int x = 0; x < camera.width; ++x) {
+          Random rng((std::uint64_t(y) << 32) | std::uint32_t(x));
+          Rgb sum(0);
+          // Samples on a sheared n x n grid (the canonical arrangement of Chiu, Shirley &
+          // Wang's multi-jittered sampling, without the jitter): one in each of the n x n
+          // cells and in each of the n^2 columns and rows, so an edge along the image's axes
+          // (walls, boxes) is covered in n^2 steps, not n. Fixed, so drafts do not shimmer.
+          for (int sy = 0; sy < n; ++sy)
+            for (int sx = 0; sx < n; ++sx) {
+              const double u = (sx + (sy + 0.5) / n) / n, v = (sy + (sx + 0.5) / n) / n;
+              sum += tracer.trace(pinhole.ray(x + u, y + v), 0, rng);
+            }
+          image.set(x, y, sum / (double(n * n) * std::numbers::pi));
+        }
+      },
+      stop);
   return image;
 }
 
