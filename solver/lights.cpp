@@ -10,6 +10,15 @@
 #include "solver/form_factor_exact.h"
 
 namespace bumprad {
+namespace {
+
+// Veach's power heuristic: the weight of a sample drawn with density `a` where another
+// strategy would have drawn it with density `b`.
+double power_heuristic(double a, double b) {
+  return a * a / (a * a + b * b);
+}
+
+}  // namespace
 
 double ray_epsilon(const Mesh& mesh) {
   double extent = 0;
@@ -129,7 +138,7 @@ Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& ray
     if (glm::dot(from - m.point, m.normal) <= 0 || glm::dot(light.point - m.point, m.normal) <= 0)
       continue;
     const Vec3 image = m.reflect(light.point);
-    const Vec3 facing = le.normal - 2 * glm::dot(le.normal, m.normal) * m.normal;
+    const Vec3 facing = m.turn(le.normal);
     if (const double g = term(image, facing); g > 0 && visible_through(m, from, image, rays))
       sum += emission * (m.specular * g);
   }
@@ -165,21 +174,19 @@ Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const Pho
     if (mirror ? !visible_through(*mirror, from, y, rays)
                : rays.occluded({from, d}, distance - 2 * epsilon_))
       return 0.0;
-    const double weight = light_pdf * light_pdf / (light_pdf * light_pdf + lobe_pdf * lobe_pdf);
-    return (mirror ? mirror->specular : 1) * lobe_pdf * weight / light_pdf;
+    return (mirror ? mirror->specular : 1) * lobe_pdf * power_heuristic(light_pdf, lobe_pdf) /
+           light_pdf;
   };
   double sum = term(light.point, le.normal, nullptr);
   for (const Mirror& m : mirrors_)
     if (glm::dot(from - m.point, m.normal) > 0 && glm::dot(light.point - m.point, m.normal) > 0)
-      sum += term(m.reflect(light.point), le.normal - 2 * glm::dot(le.normal, m.normal) * m.normal,
-                  &m);
+      sum += term(m.reflect(light.point), m.turn(le.normal), &m);
   return light.emission * sum;
 }
 
 double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
                            double cos_there) const {
-  const double light_pdf = pdf_solid_angle(element, distance, cos_there);
-  return lobe_pdf * lobe_pdf / (lobe_pdf * lobe_pdf + light_pdf * light_pdf);
+  return power_heuristic(lobe_pdf, pdf_solid_angle(element, distance, cos_there));
 }
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
@@ -204,7 +211,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
     if (mirror) {
       if (glm::dot(centroid - mirror->point, mirror->normal) <= 0) return;  // behind it
       centroid = mirror->reflect(centroid);
-      facing = facing - 2 * glm::dot(facing, mirror->normal) * mirror->normal;
+      facing = mirror->turn(facing);
       for (int k = 0; k < e.vertex_count; ++k)
         corners[std::size_t(k)] = mirror->reflect(corners[std::size_t(k)]);
     }

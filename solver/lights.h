@@ -90,6 +90,8 @@ class Lights {
     Vec3 point, normal;
     double specular;  // k_s
     Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
+    // A direction's mirror image (an emitter's normal, seen in the mirror).
+    Vec3 turn(const Vec3& d) const { return d - 2 * glm::dot(d, normal) * normal; }
   };
   Vec3 point_on(const Element& e, Random& random) const;
   // Density per solid angle of sample() choosing a point on emitter element `element`
