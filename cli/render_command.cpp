@@ -40,25 +40,25 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
     if (i + 1 >= args.size()) throw UsageError(std::string(args[i]) + " needs a value");
     return std::string(args[++i]);
   };
-  auto integer = [&](std::size_t& i) {
+  // The flag's value read whole by `convert` (std::stoll or std::stod), or an error naming
+  // the flag and saying what `kind` of value it takes.
+  auto parsed = [&](std::size_t& i, const char* kind, auto convert) {
     std::string flag(args[i]), v = value(i);
     try {
       std::size_t used = 0;
-      long long n = std::stoll(v, &used);
-      if (used == v.size()) return n;
-    } catch (const std::exception&) {
-    }
-    throw UsageError(flag + ": \"" + v + "\" is not an integer");
-  };
-  auto number = [&](std::size_t& i) {
-    std::string flag(args[i]), v = value(i);
-    try {
-      std::size_t used = 0;
-      double x = std::stod(v, &used);
+      auto x = convert(v, &used);
       if (used == v.size()) return x;
     } catch (const std::exception&) {
     }
-    throw UsageError(flag + ": \"" + v + "\" is not a number");
+    throw UsageError(flag + ": \"" + v + "\" is not " + kind);
+  };
+  auto integer = [&](std::size_t& i) {
+    return parsed(i, "an integer",
+                  [](const std::string& v, std::size_t* used) { return std::stoll(v, used); });
+  };
+  auto number = [&](std::size_t& i) {
+    return parsed(i, "a number",
+                  [](const std::string& v, std::size_t* used) { return std::stod(v, used); });
   };
   for (std::size_t i = 0; i < args.size(); ++i) {
     std::string_view a = args[i];

@@ -49,16 +49,20 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   // more a round); what no shot can lower (the mesh, the hemi-cube) stays, and is reported.
   // In gather mode the map comes after the solve, so these rounds see the bumps flat.
   double estimate_s = 0;
-  for (double previous = 0; scene.solver.tolerance > 0 && !stop.stop_requested();) {
-    if (mode == TextureMode::Shoot) out.map->finish_shooting(scene.materials);
+  const auto estimate = [&] {
     const ErrorEstimate e = estimate_error(scene, out);
     estimate_s += e.seconds;
     out.stats.estimated_error = e.relative_rms;
     out.stats.estimated_error_se = e.standard_error;
-    if (e.relative_rms <= scene.solver.tolerance || solver.shots() >= scene.solver.max_shots ||
-        (previous > 0 && e.relative_rms > 0.9 * previous) || solver.unshot_fraction() <= 1e-4)
+    return e.relative_rms;
+  };
+  for (double previous = 0; scene.solver.tolerance > 0 && !stop.stop_requested();) {
+    if (mode == TextureMode::Shoot) out.map->finish_shooting(scene.materials);
+    const double error = estimate();
+    if (error <= scene.solver.tolerance || solver.shots() >= scene.solver.max_shots ||
+        (previous > 0 && error > 0.9 * previous) || solver.unshot_fraction() <= 1e-4)
       break;
-    previous = e.relative_rms;
+    previous = error;
     solver.set_unshot_target(solver.unshot_fraction() / 3);
     solver.run(step, stop);
     take();
@@ -80,14 +84,9 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
     if (stop.stop_requested()) return out;
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;
-  if (scene.solver.tolerance > 0 && mode == TextureMode::Gather) {
-    // The rounds above saw the bumps flat (the map is gathered only now): report the image
-    // as it will be rendered.
-    const ErrorEstimate e = estimate_error(scene, out);
-    estimate_s += e.seconds;
-    out.stats.estimated_error = e.relative_rms;
-    out.stats.estimated_error_se = e.standard_error;
-  }
+  // The rounds above saw the bumps flat in gather mode (the map is gathered only now):
+  // report the image as it will be rendered.
+  if (scene.solver.tolerance > 0 && mode == TextureMode::Gather) estimate();
 
   out.stats.elements = mesh.elements.size();
   for (const Element& e : mesh.elements)
