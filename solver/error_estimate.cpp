@@ -10,6 +10,7 @@
 #include "common/stopwatch.h"
 #include "solver/camera.h"
 #include "solver/lights.h"
+#include "solver/parallel.h"
 #include "solver/path_tracer.h"
 #include "solver/solution.h"
 
@@ -41,17 +42,19 @@ bool sees_emitter(const Scene& scene, const Mesh& mesh, const RayScene& rays, Ra
 std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays) {
   const Camera& c = scene.camera;
   const PinholeCamera pinhole(c);
-  std::vector<bool> light(std::size_t(c.width) * std::size_t(c.height), false);
-  for (int y = 0; y < c.height; ++y)
+  // Bytes, not std::vector<bool>: rows are written from several threads.
+  std::vector<char> light(std::size_t(c.width) * std::size_t(c.height), 0);
+  parallel_for(c.height, [&](int y) {
     for (int x = 0; x < c.width; ++x)
       // 8 x 8 rays a pixel: a light seen edge-on covers slivers of pixels.
       for (int k = 0; k < 64; ++k)
         if (sees_emitter(scene, mesh, rays,
                          pinhole.ray(x + (k % 8 + 0.5) / 8, y + (k / 8 + 0.5) / 8))) {
-          light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
+          light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = 1;
           break;
         }
-  std::vector<bool> near = light;
+  });
+  std::vector<bool> near(light.begin(), light.end());
   for (int y = 0; y < c.height; ++y)
     for (int x = 0; x < c.width; ++x)
       for (int dy = -2; dy <= 2; ++dy)
