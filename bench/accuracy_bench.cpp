@@ -258,6 +258,7 @@ void perturbed_sweep() {
   const std::array<double, 5> band_weight = {std::numbers::pi, 2 * std::numbers::pi / 3,
                                              std::numbers::pi / 4, 0, -std::numbers::pi / 24};
   const std::array<int, 18> band = {0, 1, 1, 1, 2, 2, 2, 2, 2, 4, 4, 4, 4, 4, 4, 4, 4, 4};
+  const Vec3 along = light[1] - light[0], across = light[3] - light[0];
   for (int count : {4, 9, 18}) {
     double err = 0, sum = 0;
     auto t0 = Clock::now();
@@ -268,11 +269,10 @@ void perturbed_sweep() {
       constexpr int kN = 64;
       for (int a = 0; a < kN; ++a)
         for (int b = 0; b < kN; ++b) {
-          const Vec3 y = light[0] + (light[1] - light[0]) * ((a + 0.5) / kN) +
-                         (light[3] - light[0]) * ((b + 0.5) / kN);
+          const Vec3 y = light[0] + along * ((a + 0.5) / kN) + across * ((b + 0.5) / kN);
           const Vec3 d = y - v.position;
           const double r2 = glm::dot(d, d);
-          const double area = 1.0 * 0.6 / (kN * kN);
+          const double area = glm::length(glm::cross(along, across)) / (kN * kN);
           const Vec3 w = d / std::sqrt(r2);
           const double dw = w.z * area / r2;  // the light faces -z
           const std::array<double, 18> yb = sh_basis(w);
