@@ -120,40 +120,12 @@ void point_sweep(const char* regime, double z) {
   }
 }
 
-// Real spherical harmonics (orthonormal) of bands 0, 1, 2 and 4 at a unit direction: band 3
-// is left out because the clamped cosine has none (Ramamoorthi & Hanrahan 2001), so 18
-// numbers carry what 25 would.
-std::array<double, 18> sh_basis(const Vec3& d) {
-  const double x = d.x, y = d.y, z = d.z, z2 = z * z;
-  return {0.282095,
-          -0.488603 * y,
-          0.488603 * z,
-          -0.488603 * x,
-          1.092548 * x * y,
-          -1.092548 * y * z,
-          0.315392 * (3 * z2 - 1),
-          -1.092548 * x * z,
-          0.546274 * (x * x - y * y),
-          2.503343 * x * y * (x * x - y * y),
-          -1.770131 * y * z * (3 * x * x - y * y),
-          0.946175 * x * y * (7 * z2 - 1),
-          -0.669047 * y * z * (7 * z2 - 3),
-          0.105786 * (35 * z2 * z2 - 30 * z2 + 3),
-          -0.669047 * x * z * (7 * z2 - 3),
-          0.473087 * (x * x - y * y) * (7 * z2 - 1),
-          -1.770131 * x * z * (x * x - 3 * y * y),
-          0.625836 * (x * x * (x * x - 3 * y * y) - y * y * (3 * x * x - y * y))};
-}
-
 // Part "perturbed": B'(N') from the map against rho * E * F(dA -> light, N') exact, for a
 // 10 cm receiver one unit below a 1 x 0.6 light, at 300 random normals tilted up to 45
 // degrees (the outer ring), interpolated between the samples.
 // seconds: the texture work; error: mean |B' - exact| / mean exact. Setting: numbers per
-// colour channel a vertex stores (sampled normals, or SH coefficients).
-// Rows "sh": the other representation at equal storage, spherical harmonics of the incident
-// light with the clamped cosine's convolution (Ramamoorthi & Hanrahan 2001), bands 0-1 (4),
-// 0-2 (9) and 0-2 + 4 (18); their coefficients projected exactly (a 64 x 64 rule over the
-// light), so the row is the best that representation can do, not a hemi-cube estimate.
+// colour channel a vertex stores: sampled normals (rings x azimuths + 1), or 18 spherical
+// harmonics (bands 0-2 and 4, solver/map_basis.h), gathered and shot alike.
 void perturbed_sweep() {
   constexpr double kRho = 0.5;
   const std::array<Vec3, 4> light = {Vec3(-0.2, -0.4, 1), Vec3(-0.2, 0.2, 1), Vec3(0.8, 0.2, 1),
@@ -203,21 +175,26 @@ void perturbed_sweep() {
         sum += exact_at(Vec3(side * ((i + 0.5) / 8 - 0.5), side * ((j + 0.5) / 8 - 0.5), 0), n);
     return sum / 64;
   };
-  // Sampled normals: rings of tilts times azimuths, plus N itself (9 to 65 in all).
-  struct Sampling {
-    std::vector<double> tilts_deg;
-    int azimuths;
+  // Sampled normals: rings of tilts times azimuths, plus N itself (9 to 65 in all); then
+  // the harmonics.
+  auto samples = [](std::vector<double> tilts_deg, int azimuths) {
+    MapSettings s;
+    s.basis = MapBasisKind::SampledNormals;
+    s.tilts_deg = std::move(tilts_deg);
+    s.azimuths = azimuths;
+    return s;
   };
-  const std::vector<Sampling> samplings = {{{22.5, 45}, 4},    {{22.5, 45}, 8},  // the default, 17
-                                           {{15, 30, 45}, 8},  {{11.25, 22.5, 33.75, 45}, 8},
-                                           {{15, 30, 45}, 16}, {{11.25, 22.5, 33.75, 45}, 16}};
+  const std::vector<MapSettings> bases = {samples({22.5, 45}, 4),
+                                          samples({22.5, 45}, 8),  // the paper's, 17
+                                          samples({15, 30, 45}, 8),
+                                          samples({11.25, 22.5, 33.75, 45}, 8),
+                                          samples({15, 30, 45}, 16),
+                                          samples({11.25, 22.5, 33.75, 45}, 16),
+                                          MapSettings{}};  // the default, 18 harmonics
   Hemicube warm_up(mesh, 150);  // the first gather pays for llvmpipe's shader compiles
   PerturbedMap(mesh, {true, false}, MapSettings{})
       .gather(scene.materials, std::vector<Rgb>(mesh.elements.size(), Rgb(0)), warm_up);
-  for (const Sampling& sampling : samplings) {
-    MapSettings settings;
-    settings.tilts_deg = sampling.tilts_deg;
-    settings.azimuths = sampling.azimuths;
+  for (const MapSettings& settings : bases) {
     for (TextureMode mode : {TextureMode::Gather, TextureMode::Shoot}) {
       PerturbedMap map(mesh, {true, false}, settings);
       double seconds = 0;
@@ -249,51 +226,11 @@ void perturbed_sweep() {
           sum += exact;
         }
       }
-      std::printf("perturbed,%s,%zu,%.4e,%.4e\n", mode == TextureMode::Gather ? "gather" : "shoot",
-                  map.directions().size(), seconds / double(map.vertex_count()), err / sum);
+      const bool sh = settings.basis == MapBasisKind::SphericalHarmonics;
+      std::printf("perturbed,%s%s,%zu,%.4e,%.4e\n",
+                  mode == TextureMode::Gather ? "gather" : "shoot", sh ? "_sh" : "",
+                  map.basis().size(), seconds / double(map.vertex_count()), err / sum);
     }
-  }
-  // The SH rows, at the same vertices and normals as the gathered map.
-  const PerturbedMap vertices(mesh, {true, false}, MapSettings{});
-  const std::array<double, 5> band_weight = {std::numbers::pi, 2 * std::numbers::pi / 3,
-                                             std::numbers::pi / 4, 0, -std::numbers::pi / 24};
-  const std::array<int, 18> band = {0, 1, 1, 1, 2, 2, 2, 2, 2, 4, 4, 4, 4, 4, 4, 4, 4, 4};
-  const Vec3 along = light[1] - light[0], across = light[3] - light[0];
-  for (int count : {4, 9, 18}) {
-    double err = 0, sum = 0;
-    auto t0 = Clock::now();
-    for (std::uint32_t slot = 0; slot < vertices.vertex_count(); ++slot) {
-      const Vertex& v = mesh.vertices[vertices.vertex_of(slot)];
-      // Incident radiance E / pi over the light: c_lm = sum L Y_lm dw, dw = cos' dA / r^2.
-      std::array<double, 18> c{};
-      constexpr int kN = 64;
-      for (int a = 0; a < kN; ++a)
-        for (int b = 0; b < kN; ++b) {
-          const Vec3 y = light[0] + along * ((a + 0.5) / kN) + across * ((b + 0.5) / kN);
-          const Vec3 d = y - v.position;
-          const double r2 = glm::dot(d, d);
-          const double area = glm::length(glm::cross(along, across)) / (kN * kN);
-          const Vec3 w = d / std::sqrt(r2);
-          const double dw = w.z * area / r2;  // the light faces -z
-          const std::array<double, 18> yb = sh_basis(w);
-          for (int k = 0; k < count; ++k)
-            c[std::size_t(k)] += yb[std::size_t(k)] * dw / std::numbers::pi;
-        }
-      Frame frame = tangent_frame(v.normal, v.dpdu);
-      for (const Vec3& local : normals) {
-        const Vec3 n = frame.to_world(local);
-        const std::array<double, 18> yb = sh_basis(n);
-        double irradiance = 0;
-        for (int k = 0; k < count; ++k)
-          irradiance += band_weight[std::size_t(band[std::size_t(k)])] * c[std::size_t(k)] *
-                        yb[std::size_t(k)];
-        const double exact = exact_at(v.position, n);
-        err += std::abs(kRho * irradiance - exact);
-        sum += exact;
-      }
-    }
-    std::printf("perturbed,sh,%d,%.4e,%.4e\n", count,
-                seconds_since(t0) / double(vertices.vertex_count()), err / sum);
   }
 }
 

@@ -151,8 +151,10 @@ int render_command(std::span<const std::string_view> args) {
           "the view)\n",
           stats.non_diffuse_elements);
     if (solution.map)
-      std::printf("perturbed map: %zu elements, %zu directions, %s, %.3f s\n",
-                  stats.perturbed_elements, stats.directions,
+      std::printf("perturbed map: %zu elements, %zu %s a vertex, %s, %.3f s\n",
+                  stats.perturbed_elements, stats.map_values,
+                  scene.solver.map.basis == MapBasisKind::SphericalHarmonics ? "harmonics"
+                                                                             : "sampled normals",
                   scene.solver.texture == TextureMode::Gather ? "gathered" : "shot",
                   stats.seconds_texture);
     if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());

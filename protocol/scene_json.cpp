@@ -355,8 +355,20 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
     s.direct_light = v->one_of<DirectLight>(
         {{"exact", DirectLight::Exact}, {"radiosity", DirectLight::Radiosity}}, "direct light");
   if (auto v = n.get("map")) {
-    v->allow_only({"tilts_deg", "azimuths", "self_illumination"});
-    if (auto t = v->get("tilts_deg")) {
+    v->allow_only({"basis", "tilts_deg", "azimuths", "self_illumination"});
+    // Rings or azimuths ask for the sampled normals; a scene written before spherical
+    // harmonics became the default keeps its meaning.
+    auto tilts = v->get("tilts_deg"), azimuths = v->get("azimuths");
+    s.map.basis =
+        tilts || azimuths ? MapBasisKind::SampledNormals : MapBasisKind::SphericalHarmonics;
+    if (auto b = v->get("basis")) {
+      s.map.basis = b->one_of<MapBasisKind>(
+          {{"sh", MapBasisKind::SphericalHarmonics}, {"samples", MapBasisKind::SampledNormals}},
+          "map basis");
+      if (s.map.basis == MapBasisKind::SphericalHarmonics && (tilts || azimuths))
+        (tilts ? *tilts : *azimuths).fail("applies only to \"basis\": \"samples\"");
+    }
+    if (auto t = tilts) {
       std::size_t count = t->array(1, 8);
       s.map.tilts_deg.clear();
       for (std::size_t i = 0; i < count; ++i) {
@@ -366,7 +378,7 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
         s.map.tilts_deg.push_back(tilt);
       }
     }
-    if (auto a = v->get("azimuths")) s.map.azimuths = int(a->integer(3, 64));
+    if (azimuths) s.map.azimuths = int(azimuths->integer(3, 64));
     if (auto i = v->get("self_illumination")) s.map.self_illumination = i->boolean();
   }
 }

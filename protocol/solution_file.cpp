@@ -16,8 +16,9 @@ namespace {
 
 constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
 // Version 2 added the adaptive refinements, 3 the direct part of B, 4 the estimated error
-// (solver.tolerance); version 1 files (none) still load.
-constexpr std::uint32_t kVersion = 4;
+// (solver.tolerance), 5 the map basis (spherical harmonics by default; older files hold
+// sampled normals); version 1 files (none) still load.
+constexpr std::uint32_t kVersion = 5;
 static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
 
 // FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
@@ -97,7 +98,7 @@ std::string encode_solution(std::string_view scene_json, const Solution& solutio
   std::vector<Rgb> map;
   if (solution.map)
     for (std::uint32_t slot = 0; slot < solution.map->vertex_count(); ++slot)
-      for (const Rgb& b : solution.map->samples(slot)) map.push_back(b);
+      for (const Rgb& b : solution.map->values(slot)) map.push_back(b);
   w.put_rgbs(map);
   const SolveStats& s = solution.stats;
   w.put(std::int64_t(s.shots));
@@ -149,6 +150,7 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
   } catch (const SceneError& e) {
     throw SolutionFileError(name + ": its scene is invalid: " + e.what());
   }
+  if (version < 5) out.scene.solver.map.basis = MapBasisKind::SampledNormals;
   Solution& s = out.solution;
   s.radiosity = r.get_rgbs();
   s.display = r.get_rgbs();
@@ -182,14 +184,14 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
     throw SolutionFileError(name + ": its refinements do not fit its scene's mesh: " + e.what());
   }
   s.map = make_map(out.scene, *s.mesh);
-  const std::size_t samples = s.map ? s.map->vertex_count() * s.map->directions().size() : 0;
+  const std::size_t values = s.map ? s.map->vertex_count() * s.map->basis().size() : 0;
   if (s.radiosity.size() != s.mesh->elements.size() || s.display.size() != s.radiosity.size() ||
-      map.size() != samples || (!s.direct.empty() && s.direct.size() != s.radiosity.size()))
+      map.size() != values || (!s.direct.empty() && s.direct.size() != s.radiosity.size()))
     throw SolutionFileError(name + ": its data does not fit its scene's mesh");
   if (s.map) {
-    const std::size_t nd = s.map->directions().size();
+    const std::size_t n = s.map->basis().size();
     for (std::uint32_t slot = 0; slot < s.map->vertex_count(); ++slot)
-      std::copy_n(map.begin() + std::ptrdiff_t(slot * nd), nd, s.map->samples(slot).begin());
+      std::copy_n(map.begin() + std::ptrdiff_t(slot * n), n, s.map->values(slot).begin());
   }
   s.stats.elements = s.mesh->elements.size();
   count_map_stats(out.scene, s);

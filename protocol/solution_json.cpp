@@ -22,7 +22,7 @@ std::string solution_to_json(const Scene& scene, const Mesh& mesh, std::span<con
                           {"unshot_fraction", stats.unshot_fraction},
                           {"seconds_texture", stats.seconds_texture},
                           {"perturbed_elements", stats.perturbed_elements},
-                          {"directions", stats.directions}}}};
+                          {"map_values", stats.map_values}}}};
   return doc.dump() + "\n";
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "solver/map_basis.h"
 #include "solver/mesh.h"
 
 namespace bumprad {
@@ -17,7 +18,7 @@ namespace {
 constexpr double kShotFixed_s = 1e-4;
 constexpr double kPerHemicubePixel_s = 2e-8;  // per R^2
 constexpr double kPerElement_s = 1.5e-6;      // per element per shot
-constexpr double kPerMapSample_s = 1e-7;      // per bumpy vertex and map direction, per shot
+constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value, per shot
 // The view pass: 512^2 pixels at 2x2 antialiasing take 0.11 s (1e-7 s a camera ray); a
 // glossy surface sends glossy_samples more rays, a mirror up to max_depth more.
 constexpr double kPerRay_s = 1e-7;
@@ -79,9 +80,8 @@ CostEstimate estimate_cost(const Scene& scene) {
     elements += n;
     if (o.bump >= 0) bumpy += n;
   }
-  const double directions = s.texture == TextureMode::None || bumpy == 0
-                                ? 0
-                                : double(s.map.tilts_deg.size()) * s.map.azimuths + 1;
+  const double map_values =
+      s.texture == TextureMode::None || bumpy == 0 ? 0 : double(MapBasis(s.map).size());
   const double hemicube_s =
       kShotFixed_s + kPerHemicubePixel_s * double(s.hemicube_resolution) * s.hemicube_resolution;
   // Each adaptive level may split every element in four (up to the element limit) and
@@ -90,7 +90,7 @@ CostEstimate estimate_cost(const Scene& scene) {
     const double scale = std::min(double(1 << (2 * level)), Limits::kMaxElements / elements);
     const double n = elements * std::max(1.0, scale), nb = bumpy * std::max(1.0, scale);
     double shot_s = hemicube_s + kPerElement_s * n;
-    if (s.texture == TextureMode::Shoot) shot_s += kPerMapSample_s * nb * directions;
+    if (s.texture == TextureMode::Shoot) shot_s += kPerMapValue_s * nb * map_values;
     e.solve_s += s.max_shots * shot_s;
     if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
@@ -111,8 +111,8 @@ CostEstimate estimate_cost(const Scene& scene) {
                   count(s.hemicube_resolution) +
                   (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
                                          : std::string()) +
-                  (directions > 0 ? ", " + count(bumpy) + " bumpy elements x " + count(directions) +
-                                        " map directions"
+                  (map_values > 0 ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) +
+                                        " map values"
                                   : std::string()) +
                   (rounds > 0 ? ", up to " + count(rounds) + " error estimates" : std::string());
   return e;

@@ -1,7 +1,8 @@
 // The perturbed radiosity map (Chen & Wu 1990, sections 2.2-2.4): for every vertex of a
-// bumpy surface, the radiosity B'(N') for a set of sampled perturbed normals. It depends on
-// geometry and light only, so any bump function renders from it without solving again.
-// Built by gathering after the solve (eq. 10, 13-19) or by shooting at every step (eq. 20-22).
+// bumpy surface, the radiosity B'(N') at any perturbed normal, stored as a few numbers in a
+// MapBasis. It depends on geometry and light only, so any bump function renders from it
+// without solving again. Built by gathering after the solve (eq. 10, 13-19) or by shooting
+// at every step (eq. 20-22).
 #pragma once
 
 #include <array>
@@ -11,35 +12,11 @@
 #include <vector>
 
 #include "solver/hemicube.h"
+#include "solver/map_basis.h"
 #include "solver/mesh.h"
 #include "solver/scene.h"
 
 namespace bumprad {
-
-// The sampled normals in a local frame (x = T, y = S, z = N): N itself first, then for each
-// tilt ring its azimuths starting at +T and turning toward +S (E, NE, N, NW, ... for 8).
-class DirectionSet {
- public:
-  explicit DirectionSet(const MapSettings& settings);
-
-  std::size_t size() const { return directions_.size(); }
-  const Vec3& direction(std::size_t s) const { return directions_[s]; }
-
-  struct Weight {
-    std::uint32_t sample;
-    double weight;
-  };
-  // Interpolation weights for a unit normal in the local frame: linear in azimuth within a
-  // ring, linear in tilt between rings (N is ring 0). Tilts beyond the outer ring use the
-  // outer ring; a normal below the tangent plane is taken at the outer ring's tilt.
-  // Returns the number of weights written (at most 4).
-  int weights(const Vec3& local, std::array<Weight, 4>& out) const;
-
- private:
-  std::vector<double> tilts_;  // radians, ascending, ring r at tilts_[r]
-  int azimuths_;
-  std::vector<Vec3> directions_;
-};
 
 // A tangent frame (T, S, N) with N the unit normal and T along dpdu where it can be.
 Frame tangent_frame(const Vec3& n, const Vec3& dpdu);
@@ -50,22 +27,26 @@ class PerturbedMap {
   PerturbedMap(const Mesh& mesh, const std::vector<bool>& perturbed_objects,
                const MapSettings& settings);
 
-  const DirectionSet& directions() const { return directions_; }
+  const MapBasis& basis() const { return basis_; }
   std::size_t vertex_count() const { return slot_vertex_.size(); }
   bool empty() const { return slot_vertex_.empty(); }
   // The map slot of a mesh vertex, or -1 when the vertex is not perturbed.
   std::int32_t slot(std::uint32_t vertex) const { return vertex_slot_[vertex]; }
   std::uint32_t vertex_of(std::uint32_t slot) const { return slot_vertex_[slot]; }
-  // B'(N'_s) for every sample s of one slot.
-  std::span<const Rgb> samples(std::uint32_t slot) const;
-  std::span<Rgb> samples(std::uint32_t slot);
-  // B'(N') at a local normal, interpolated between the samples.
+  // The basis's values of one slot.
+  std::span<const Rgb> values(std::uint32_t slot) const;
+  std::span<Rgb> values(std::uint32_t slot);
+  // B'(N') of one slot for a normal's terms (MapBasis::evaluate).
+  Rgb value(std::uint32_t slot, const MapTerms& terms) const;
+  // B'(N') at a local unit normal.
   Rgb lookup(std::uint32_t slot, const Vec3& local) const;
+  // The terms of the unperturbed normal N.
+  const MapTerms& unperturbed() const { return unperturbed_; }
 
-  // Post-process (eq. 10, 13-19): a hemi-cube at each perturbed vertex; per sample
-  // direction, B' = E + rho (N'.S - shadowed sliver), with S the radiosity-weighted
-  // directional sums (eq. 18-19). `radiosity` is per element. `stop` ends it between
-  // vertices; the map is then unfinished.
+  // Post-process (eq. 10, 13-19): a hemi-cube at each perturbed vertex, whose pixels'
+  // radiosity is projected into the basis (for sampled normals, B' = E + rho (N'.S -
+  // shadowed sliver), S the radiosity-weighted directional sums of eq. 18-19). `radiosity`
+  // is per element. `stop` ends it between vertices; the map is then unfinished.
   void gather(const std::vector<Material>& materials, std::span<const Rgb> radiosity,
               Hemicube& hemicube, std::stop_token stop = {});
 
@@ -85,24 +66,26 @@ class PerturbedMap {
   // Ignored for elements without the map.
   void receive_ray(std::uint32_t element, const Vec3& to_source, const Rgb& power);
 
-  // Turns what shooting has accumulated into vertex samples (area-weighted over the
+  // Turns what shooting has accumulated into vertex values (area-weighted over the
   // elements around each vertex). Cheap; call before each preview.
   void finish_shooting(const std::vector<Material>& materials);
 
  private:
   const Mesh& mesh_;
-  DirectionSet directions_;
+  MapBasis basis_;
+  MapTerms unperturbed_;
   bool self_illumination_;
   std::vector<std::int32_t> vertex_slot_;
   std::vector<std::uint32_t> slot_vertex_;
-  std::vector<Rgb> values_;  // slot * directions + sample
+  std::vector<Rgb> values_;  // slot * basis size + value
 
   // Shooting state, per perturbed element.
   std::vector<std::int32_t> element_slot_;
   std::vector<std::uint32_t> slot_element_;
   std::vector<Frame> element_frames_;
-  std::vector<Rgb> element_received_;  // element slot * directions + sample: sum of incident B
-  std::vector<double> scratch_;        // per element slot * (directions + 1): F'' and F
+  std::vector<Rgb> element_received_;  // element slot * basis size + value: incident light
+  std::vector<double> scratch_;        // per element slot * (basis size + 1): F'' and F
+  std::vector<double> projected_;      // one direction's MapBasis::project
   std::vector<std::uint32_t> touched_;
 };
 

@@ -39,7 +39,7 @@ struct SolveStats {
   // truth and its standard error (error_estimate.h); 0 when not estimated.
   double estimated_error = 0, estimated_error_se = 0;
   std::size_t perturbed_elements = 0;
-  std::size_t directions = 0;            // sampled perturbed normals per vertex
+  std::size_t map_values = 0;            // numbers a map vertex stores per channel
   std::size_t non_diffuse_elements = 0;  // with a specular fraction
 };
 

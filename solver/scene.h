@@ -147,8 +147,13 @@ enum class FormFactorMethod { Hemicube, RayCast };
 // light from the solution and the map, as Chen & Wu render it.
 enum class DirectLight { Exact, Radiosity };
 
-// The sampled perturbed normals: N plus `azimuths` directions on each tilt ring.
+// What the perturbed map stores per vertex (solver/map_basis.h): spherical harmonics of the
+// incident light, bands 0-2 and 4 (18 numbers a channel), or the paper's sampled normals.
+enum class MapBasisKind { SphericalHarmonics, SampledNormals };
+
 struct MapSettings {
+  MapBasisKind basis = MapBasisKind::SphericalHarmonics;
+  // Sampled normals only: N plus `azimuths` directions on each tilt ring.
   std::vector<double> tilts_deg{22.5, 45};
   int azimuths = 8;
   bool self_illumination = false;  // paper section 3: bumps lit by the surface itself

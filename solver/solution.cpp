@@ -148,11 +148,11 @@ std::unique_ptr<PerturbedMap> make_map(const Scene& scene, const Mesh& mesh) {
 
 void count_map_stats(const Scene& scene, Solution& solution) {
   solution.stats.perturbed_elements = 0;
-  solution.stats.directions = 0;
+  solution.stats.map_values = 0;
   if (!solution.map) return;
   for (const Element& e : solution.mesh->elements)
     solution.stats.perturbed_elements += scene.objects[e.object].bump >= 0;
-  solution.stats.directions = solution.map->directions().size();
+  solution.stats.map_values = solution.map->basis().size();
 }
 
 namespace {

@@ -128,14 +128,15 @@ class Tracer {
     if (bump >= 0) {
       BumpSample f = evaluate_bump(detail_.bumps[std::size_t(bump)], uv);
       p.normal = perturb_normal(n, dpdu, dpdv, f.du, f.dv);
-      Vec3 local = tangent_frame(n, dpdu).to_local(p.normal);
+      const PerturbedMap& map = *detail_.map;
+      const MapTerms at = map.basis().evaluate(tangent_frame(n, dpdu).to_local(p.normal));
       Rgb b(0);
       for (int k = 0; k < e.vertex_count; ++k) {
         std::uint32_t vi = e.v[std::size_t(k)];
         Rgb bk = vertex_[vi];
-        if (std::int32_t slot = detail_.map->slot(vi); slot >= 0)
-          bk += detail_.map->lookup(std::uint32_t(slot), local) -
-                detail_.map->samples(std::uint32_t(slot))[0];
+        if (std::int32_t slot = map.slot(vi); slot >= 0)
+          bk += map.value(std::uint32_t(slot), at) -
+                map.value(std::uint32_t(slot), map.unperturbed());
         b += w[std::size_t(k)] * bk;
       }
       p.radiosity = glm::max(b, Rgb(0));

@@ -131,7 +131,8 @@ TEST_F(RenderCli, BumpFileReplacesTheScenesBumpFunctions) {
   Process r = run("render builtin:wrinkled-box --shots 20 --hemicube 64 --bump " +
                   path("cyl.json") + " -o " + path("cyl.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("perturbed map: 216 elements, 17 directions, shot"), std::string::npos)
+  EXPECT_NE(r.output.find("perturbed map: 216 elements, 18 harmonics a vertex, shot"),
+            std::string::npos)
       << r.output;
   std::ofstream(path("bad.json")) << R"({"wrinkles": {"type": "cylinder", "amplitude": -1}})";
   r = run("render builtin:wrinkled-box --bump " + path("bad.json") + " -o " + path("x.png"));

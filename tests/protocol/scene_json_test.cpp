@@ -382,6 +382,15 @@ TEST(SceneJson, TextureModeAndMapSettings) {
   EXPECT_EQ(s.solver.map.tilts_deg, (std::vector<double>{15, 30, 60}));
   EXPECT_EQ(s.solver.map.azimuths, 12);
   EXPECT_TRUE(s.solver.map.self_illumination);
+  // Rings or azimuths imply the sampled normals; without them the map stores harmonics.
+  EXPECT_EQ(s.solver.map.basis, MapBasisKind::SampledNormals);
+  EXPECT_EQ(parse_scene(minimal()).solver.map.basis, MapBasisKind::SphericalHarmonics);
+  d["solver"] = {{"map", {{"basis", "samples"}}}};
+  EXPECT_EQ(parse_scene(d).solver.map.basis, MapBasisKind::SampledNormals);
+  d["solver"] = {{"map", {{"basis", "sh"}, {"azimuths", 12}}}};
+  expect_rejected(d, "/solver/map/azimuths", "applies only to \"basis\": \"samples\"");
+  d["solver"] = {{"map", {{"basis", "wavelets"}}}};
+  expect_rejected(d, "/solver/map/basis", "unknown map basis \"wavelets\"");
   d["solver"] = {{"texture", "bake"}};
   expect_rejected(d, "/solver/texture", "unknown texture mode \"bake\"");
   d["solver"] = {{"map", {{"tilts_deg", {30, 20}}}}};

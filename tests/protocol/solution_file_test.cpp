@@ -2,6 +2,7 @@
 // other-version files are refused with a clear message.
 #include "protocol/solution_file.h"
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -66,7 +67,7 @@ TEST_F(SolutionFile, RoundTripIsBitExact) {
   ASSERT_TRUE(back.solution.map);
   ASSERT_EQ(back.solution.map->vertex_count(), solution_.map->vertex_count());
   for (std::uint32_t s = 0; s < solution_.map->vertex_count(); ++s) {
-    auto a = solution_.map->samples(s), b = back.solution.map->samples(s);
+    auto a = solution_.map->values(s), b = back.solution.map->values(s);
     EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin())) << s;
   }
   EXPECT_EQ(back.solution.stats.shots, 30);
@@ -93,6 +94,25 @@ TEST_F(SolutionFile, AdaptiveRefinementsRoundTrip) {
   EXPECT_EQ(render(back.scene, back.solution).rgb, render(scene_, solution_).rgb);
 }
 
+// Files before version 5 were written when the map stored sampled normals, whatever their
+// scene says: a version-4 file (the bytes a solve with sampled normals writes, stamped 4,
+// its checksum redone) loads as sampled normals and renders as before.
+TEST_F(SolutionFile, AVersionFourFileKeepsItsSampledNormals) {
+  Scene samples = scene_;
+  samples.solver.map.basis = MapBasisKind::SampledNormals;
+  solution_ = solve(samples);
+  std::string b = encode_solution(text_, solution_);
+  b[8] = 4;
+  std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a 64, as docs/solution-file.md says
+  for (std::size_t i = 0; i + 8 < b.size(); ++i) h = (h ^ std::uint8_t(b[i])) * 0x100000001b3ull;
+  std::memcpy(b.data() + b.size() - 8, &h, 8);
+  const fs::path p = dir_ / "v4.bumprad";
+  write(p, b);
+  LoadedSolution back = load_solution(p);
+  EXPECT_EQ(back.solution.map->basis().size(), 17u);
+  EXPECT_EQ(render(back.scene, back.solution).rgb, render(samples, solution_).rgb);
+}
+
 TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   fs::path p = saved();
   std::string good = bytes(p);
@@ -109,7 +129,7 @@ TEST_F(SolutionFile, RefusesDamagedForeignAndOtherVersionFiles) {
   std::string version = good;
   version[8] = 7;
   write(bad, version);
-  expect_refused(bad, "solution file format version 7; this build reads versions 1 to 4");
+  expect_refused(bad, "solution file format version 7; this build reads versions 1 to 5");
   write(bad, "\x89PNG\r\n\x1a\n and then some");
   expect_refused(bad, "not a bumprad solution file");
   expect_refused(dir_ / "missing.bumprad", "cannot open");

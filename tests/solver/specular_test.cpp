@@ -127,8 +127,9 @@ TEST(Specular, AmbientCountsQueuedSpecularPower) {
 }
 
 TEST(Specular, BumpsLitThroughAMirrorGetTheirMapFromTheReflection) {
-  // The wall lit only through the mirror carries a perturbed map: its tilted samples
-  // must follow k_s E F(wall(N') -> emitter image), which Lambert gives at any tilt.
+  // The wall lit only through the mirror carries a perturbed map: at tilted normals (N and
+  // 8 azimuths at 22.5 and 45 degrees) it must follow k_s E F(wall(N') -> emitter image),
+  // which Lambert gives at any tilt.
   Scene s = mirror_scene(0);
   s.objects[2].bump = 0;
   s.bumps.push_back(BumpFunction{});
@@ -141,11 +142,14 @@ TEST(Specular, BumpsLitThroughAMirrorGetTheirMapFromTheReflection) {
   map.finish_shooting(s.materials);
   std::array<Vec3, 4> image = {Vec3(-0.8, -0.15, -1), Vec3(-0.8, 0.15, -1), Vec3(-0.5, 0.15, -1),
                                Vec3(-0.5, -0.15, -1)};
+  MapSettings samples;
+  samples.basis = MapBasisKind::SampledNormals;
+  const MapBasis checked(samples);
   double worst = 0, largest = 0;
   for (std::uint32_t slot = 0; slot < map.vertex_count(); ++slot)
-    for (std::size_t k = 0; k < map.directions().size(); ++k) {
+    for (const Vec3& local : checked.sample_directions()) {
       const Vertex& v = mesh.vertices[map.vertex_of(slot)];
-      Vec3 n = tangent_frame(v.normal, v.dpdu).to_world(map.directions().direction(k));
+      Vec3 n = tangent_frame(v.normal, v.dpdu).to_world(local);
       double f = 0;
       for (int i = 0; i < 8; ++i)
         for (int j = 0; j < 8; ++j)
@@ -154,11 +158,13 @@ TEST(Specular, BumpsLitThroughAMirrorGetTheirMapFromTheReflection) {
                64;
       double exact = kWallRho * kKs * f;
       largest = std::max(largest, exact);
-      worst = std::max(worst, std::abs(map.samples(slot)[k].g - exact));
+      worst = std::max(worst, std::abs(map.lookup(slot, local).g - exact));
     }
   std::printf("map through the mirror: worst |B' - exact| = %.2e of values up to %.2e\n", worst,
               largest);
-  EXPECT_LT(worst, 0.05 * largest);  // measured 1.9%, the mirror's own error above
+  EXPECT_LT(
+      worst,
+      0.05 * largest);  // measured 3.1 % (the mirror's own 1.9 % and the harmonics' truncation)
 }
 
 // With exact direct light the view pass adds the emitter's image in a planar mirror per
