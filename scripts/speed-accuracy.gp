@@ -28,8 +28,8 @@ set format x "%g"
 plot rows("perturbed","gather") using ($3*24):5 w lp pt 7 t "sampled normals, gathered (hemi-cube 150 per vertex)", \
      rows("perturbed","gather") using ($3*24):5:3 w labels offset 0,0.8 font ",8" notitle, \
      rows("perturbed","shoot") using ($3*24):5 w lp pt 5 t "sampled normals, shot (256 shots)", \
-     rows("perturbed","sh") using ($3*24):5 w lp pt 9 t "spherical harmonics, bands 0-1 / 0-2 / 0-2+4, exact projection", \
-     rows("perturbed","sh") using ($3*24):5:3 w labels offset 0,-0.8 font ",8" notitle
+     rows("perturbed","gather_sh") using ($3*24):5 w p pt 9 ps 1.5 t "spherical harmonics 0-2+4 (the default), gathered", \
+     rows("perturbed","shoot_sh") using ($3*24):5 w p pt 11 ps 1.5 t "spherical harmonics 0-2+4, shot"
 set format x "10^{%L}"
 
 do for [scene in "cornell wrinkled-box paper-room"] {
