@@ -1,5 +1,6 @@
 // Progressive refinement radiosity (Cohen, Chen, Wallace & Greenberg 1988): the patch with
-// the most unshot power shoots it through a hemi-cube to every element it sees.
+// the most unshot power shoots it through a hemi-cube to every element it sees, overshooting
+// by the light it is yet to receive (Feda & Purgathofer 1992).
 // Memory is O(elements): form factors live for one shot only.
 #pragma once
 
@@ -62,7 +63,8 @@ class ProgressiveSolver {
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
   void attach_map(PerturbedMap* map);
 
-  // One shot from the patch with the most unshot power. False if nothing was left to shoot.
+  // One shot from the patch with the largest unshot power in magnitude (negative: shot
+  // ahead). False if nothing was left to shoot.
   bool shoot();
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;
@@ -74,6 +76,7 @@ class ProgressiveSolver {
   void run(const std::function<bool(const Snapshot&)>& on_step = {}, std::stop_token stop = {});
 
   int shots() const { return shots_; }
+  // Sum of |unshot power| over patches / emitted power.
   double unshot_fraction() const;
   const std::vector<Rgb>& radiosity() const { return radiosity_; }
   // The part of B that came straight from the emitters' emission (rho E F, no bounce in
@@ -91,6 +94,9 @@ class ProgressiveSolver {
 
  private:
   Rgb unshot_power() const;
+  // Radiosity per unit reflectance still to arrive at an average element (display term,
+  // overshooting).
+  Rgb ambient() const;
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
   // F from the patch to the element by rays (Wallace et al. 1989), exact where near.

@@ -162,7 +162,9 @@ struct MapSettings {
 struct SolverSettings {
   int hemicube_resolution = 150;  // pixels across the top face; even
   int max_shots = 1000;
-  double unshot_fraction = 0.01;  // stop once unshot power / emitted power falls below this
+  // Stop once unshot power (in magnitude: overshooting leaves negative residuals) / emitted
+  // power falls below this.
+  double unshot_fraction = 0.01;
   // Target relative RMS error of the image against ground truth; 0: off. When set, the solve
   // estimates its error (solver/error_estimate.h) once it reaches unshot_fraction, and shoots
   // on to a third of the unshot power while the estimate is above the target, falls, and
