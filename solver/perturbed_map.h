@@ -5,7 +5,6 @@
 // at every step (eq. 20-22).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <span>
 #include <stop_token>
