@@ -124,7 +124,8 @@ class ProgressiveSolver {
   const Mesh& mesh_;
   SolverSettings settings_;
   const RayScene* rays_;
-  std::vector<std::vector<AreaSample>> samples_;  // per patch: near field and ray casting
+  std::vector<std::vector<AreaSample>> samples_;      // per patch: near field (quarter points)
+  std::vector<std::vector<AreaSample>> ray_samples_;  // per patch: shadow rays, kRaySamples
   Hemicube hemicube_;
   std::vector<VisibleElement> visible_;     // the current shot's form factors
   std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1

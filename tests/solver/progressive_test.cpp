@@ -127,6 +127,36 @@ TEST(Progressive, SmallDistantReceiversTakeRayCastFormFactors) {
   }
 }
 
+// The fallback's rays sample a shooter at a bounded number of points (16): a lamp of 6 x 6
+// elements in one patch casts one ray per group of neighbours, not four per element, and
+// the distant receiver still gets rho E F within the bound above (measured 2.2e-5).
+TEST(Progressive, RaysFromALargePatchSampleItAtBoundedPoints) {
+  auto lamp = test::rectangle_facing_down(1, 1, 10);
+  Object light = test::quad(lamp, 6, 6, 1);
+  light.density.patch_elements = 6;
+  Scene s = test::scene_of({light, test::quad({Vec3(-0.025, -0.025, 0), Vec3(0.025, -0.025, 0),
+                                               Vec3(0.025, 0.025, 0), Vec3(-0.025, 0.025, 0)})},
+                           0.5);
+  Material emitter;
+  emitter.reflectance = Rgb(0);
+  emitter.emission = Rgb(1);
+  s.materials.push_back(emitter);
+  s.solver.hemicube_resolution = 32;
+  s.solver.alias_pixels = 4;
+  Mesh mesh = build_mesh(s);
+  ASSERT_EQ(mesh.patches.size(), 2u);
+  RayScene rays(mesh);
+  std::uint32_t receiver = 0;
+  while (mesh.elements[receiver].material != 0) ++receiver;
+  const double exact =
+      point_to_polygon(Vec3(0), Vec3(0, 0, 1), std::vector<Vec3>(lamp.begin(), lamp.end())) * 0.5;
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
+  ASSERT_TRUE(solver.shoot());
+  const double error = std::abs(solver.radiosity()[receiver].g - exact) / exact;
+  std::printf("6 x 6 lamp in one patch: relative error %.3g\n", error);
+  EXPECT_LT(error, 1e-3);
+}
+
 // A lamp under a 2 x 2 ceiling, a floor 1 below: open on all four sides, so light escapes.
 Scene open_plates() {
   auto floor = test::rectangle_facing_down(2, 2, 1);
