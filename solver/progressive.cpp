@@ -76,12 +76,14 @@ void ProgressiveSolver::add_by_source(std::vector<Queued>& list, const Queued& q
 }
 
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
-                                     const SolverSettings& settings, const RayScene* rays)
+                                     const SolverSettings& settings, const RayScene* rays,
+                                     std::span<const double> open)
     : mesh_(mesh),
       settings_(settings),
       rays_(rays),
       hemicube_(mesh, settings.hemicube_resolution),
       visible_slot_(mesh.elements.size(), -1),
+      open_(open.begin(), open.end()),
       specular_(mesh.elements.size()),
       shininess_(mesh.elements.size()),
       queue_(mesh.elements.size()),
@@ -104,8 +106,17 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   }
   if (settings.form_factors == FormFactorMethod::RayCast && !rays)
     throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
+  for (const Patch& patch : mesh.patches) {
+    bool planar = true;
+    for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
+      planar = planar && glm::dot(mesh.elements[e].normal, patch.normal) > 0.9999;
+    planar_patch_.push_back(planar);
+  }
   planar_mirror_ = planar_mirrors(mesh, materials);
   reflectance_ = element_reflectance(mesh, materials);
+  if (open_.empty()) open_.assign(mesh.elements.size(), 1.0);
+  if (open_.size() != mesh.elements.size())
+    throw std::invalid_argument("open shares must be given for every element");
   Rgb weighted_rho(0);
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -115,8 +126,8 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
     radiosity_[i] = unshot_[i] = unshot_emission_[i] = m.emission;
     emitted_ += m.emission * e.area;
     patch_unshot_power_[e.patch] += channel_sum(m.emission) * e.area;
-    weighted_rho += m.reflectance * e.area;
-    total_area_ += e.area;
+    weighted_rho += m.reflectance * e.area * open_[i];
+    total_area_ += e.area * open_[i];
   }
   if (total_area_ > 0) mean_reflectance_ = weighted_rho / total_area_;
 }
@@ -161,13 +172,19 @@ bool ProgressiveSolver::shoot() {
   Rgb shot_power(0), emission_power(0);
   std::vector<Queued> sources;
   double left = 0;
+  // An element's share is its reflectance times the ambient light on its open part.
+  auto over = [&](std::uint32_t e) { return reflectance_[e] * ahead * open_[e]; };
+  shot_weight_.clear();
+  for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
+    shot_weight_.push_back(std::abs(channel_sum(unshot_[e] + over(e))));
+  const Vec3 centre = shot_origin(pi);
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
-    const Rgb over = reflectance_[e] * ahead;
-    shot_power += (unshot_[e] + over) * mesh_.elements[e].area;
+    const Rgb ahead_e = over(e);
+    shot_power += (unshot_[e] + ahead_e) * mesh_.elements[e].area;
     emission_power += unshot_emission_[e] * mesh_.elements[e].area;
-    unshot_[e] = -over;
+    unshot_[e] = -ahead_e;
     unshot_emission_[e] = Rgb(0);
-    left -= channel_sum(over) * mesh_.elements[e].area;
+    left -= channel_sum(ahead_e) * mesh_.elements[e].area;
     for (const Queued& q : queue_[e]) add_by_source(sources, q);
     queue_[e].clear();
   }
@@ -176,7 +193,7 @@ bool ProgressiveSolver::shoot() {
   double angle = 0;
   if (settings_.rotate_hemicube)
     angle = std::uniform_real_distribution<double>(0, 2 * std::numbers::pi)(rng_);
-  Vec3 origin = patch.centroid + patch.normal * (mesh_.diagonal() * 1e-6);
+  Vec3 origin = centre + patch.normal * (mesh_.diagonal() * 1e-6);
   const Frame frame = frame_about(patch.normal, angle);
   // Ray-cast shots still render the hemi-cube when its pixels are needed: for specular
   // transfer or to shoot the perturbed map.
@@ -221,6 +238,39 @@ bool ProgressiveSolver::shoot() {
   total_.specular_s += last_shot_.specular_s;
   total_.total_s += last_shot_.total_s;
   return true;
+}
+
+// A patch shoots from the centre of the power it shoots, not of its area: where a block
+// stands on a floor, a floor patch's centre can lie under the block, and a hemi-cube there
+// sees through the block's walls (their backs face it and are culled) into the room. The
+// power's centre lies on the lit part; where even it falls on a dark element (an L-shaped
+// lit part), the nearest element that shoots lends its centroid. Curved patches keep their
+// centroid.
+Vec3 ProgressiveSolver::shot_origin(std::uint32_t pi) const {
+  const Patch& patch = mesh_.patches[pi];
+  if (!planar_patch_[pi]) return patch.centroid;
+  std::vector<double> weight(patch.count);
+  double total = 0;
+  Vec3 centre(0);
+  for (std::uint32_t k = 0; k < patch.count; ++k) {
+    weight[k] = shot_weight_[k] * mesh_.elements[patch.first + k].area;
+    total += weight[k];
+    centre += weight[k] * mesh_.elements[patch.first + k].centroid;
+  }
+  if (!(total > 0)) return patch.centroid;
+  centre /= total;
+  auto nearest = [&](bool shooting) {
+    std::uint32_t best = 0;
+    double best_d2 = INFINITY;
+    for (std::uint32_t k = 0; k < patch.count; ++k) {
+      const Vec3 d = mesh_.elements[patch.first + k].centroid - centre;
+      if ((!shooting || weight[k] > 0) && glm::dot(d, d) < best_d2)
+        best = k, best_d2 = glm::dot(d, d);
+    }
+    return best;
+  };
+  const std::uint32_t under = nearest(false);
+  return weight[under] > 0 ? centre : mesh_.elements[patch.first + nearest(true)].centroid;
 }
 
 void ProgressiveSolver::receive(std::uint32_t i, const Rgb& incident, std::uint32_t source,
@@ -346,10 +396,16 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
   double at_origin = point_to_polygon(origin, n, receiver);
   if (!(at_origin > 0)) return hemicube_form_factor;
   double visible = std::min(1.0, hemicube_form_factor / at_origin);
-  double mean = 0;
-  for (const AreaSample& s : samples_[patch])
-    mean += s.area * point_to_polygon(s.point, n, receiver);
-  return visible * mean / mesh_.patches[patch].area;
+  // Each point of the shooter counts with the power it shoots (shot_weight_): a patch lit
+  // at one end sends its near neighbours the light of that end.
+  const auto& samples = samples_[patch];
+  double mean = 0, weights = 0;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const double w = samples[k].area * shot_weight_[k / 4];
+    mean += w * point_to_polygon(samples[k].point, n, receiver);
+    weights += w;
+  }
+  return weights > 0 ? visible * mean / weights : hemicube_form_factor;
 }
 
 // F_pj = F(dA_j -> A_p) A_j / A_p by reciprocity, the receiver at the element's centre.

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <random>
+#include <span>
 #include <stop_token>
 #include <vector>
 
@@ -56,9 +57,12 @@ struct Snapshot {
 class ProgressiveSolver {
  public:
   // `rays` (over the same mesh) serves ray-cast form factors and the hemi-cube's aliasing
-  // fallback; without it, ray-cast settings are refused and the fallback is off.
+  // fallback; without it, ray-cast settings are refused and the fallback is off. `open`
+  // (per element, vertex_radiosity.h's open_share; empty: all open) keeps light from being
+  // sent ahead to buried parts, which would never receive it.
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
-                    const SolverSettings& settings, const RayScene* rays = nullptr);
+                    const SolverSettings& settings, const RayScene* rays = nullptr,
+                    std::span<const double> open = {});
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
   void attach_map(PerturbedMap* map);
@@ -99,6 +103,8 @@ class ProgressiveSolver {
   Rgb ambient() const;
   double near_field_form_factor(std::uint32_t patch, const Vec3& origin, std::uint32_t element,
                                 double hemicube_form_factor) const;
+  // Where the patch shoots from: the centre of the power it shoots (see the definition).
+  Vec3 shot_origin(std::uint32_t patch) const;
   // F from the patch to the element by rays (Wallace et al. 1989), exact where near.
   double ray_cast_form_factor_to(std::uint32_t patch, std::uint32_t element) const;
   // The shot's form factors: the hemi-cube's, corrected in the near field and where it
@@ -130,12 +136,17 @@ class ProgressiveSolver {
   std::vector<VisibleElement> visible_;     // the current shot's form factors
   std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1
   std::vector<Rgb> reflectance_;            // per element: diffuse albedo, element_reflectance()
+  std::vector<double> open_;                // per element: share open to the scene
   std::vector<double> specular_;            // per element: k_s
   std::vector<double> shininess_;           // per element: Phong exponent, 0 for a mirror
   // Per non-diffuse element, the power it will reflect specularly, by source patch, since
   // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
   // shot at it since then, so O(non-diffuse elements x sources per interval).
   std::vector<std::vector<Queued>> queue_;
+  // The shooting patch's elements' unshot radiosity (channel sum, in magnitude), for where
+  // it shoots from and how its near field is weighted.
+  std::vector<double> shot_weight_;
+  std::vector<bool> planar_patch_;          // per patch: all its elements share its normal
   std::vector<bool> planar_mirror_;         // per surface, planar_mirrors()
   std::vector<std::int32_t> source_slot_;   // per patch, scratch for shoot_specular
   std::vector<Rgb> incident_;               // per element, scratch for shoot_specular

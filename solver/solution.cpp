@@ -23,7 +23,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   out.open = open_share(mesh, *out.rays);
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
-  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get());
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
   const auto step = [&](const Snapshot& s) {
