@@ -176,7 +176,7 @@ bool ProgressiveSolver::shoot() {
   auto over = [&](std::uint32_t e) { return reflectance_[e] * ahead * open_[e]; };
   shot_weight_.clear();
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-    shot_weight_.push_back(std::abs(channel_sum(unshot_[e] + over(e))));
+    shot_weight_.push_back(std::abs(channel_sum(unshot_[e] + over(e))) * open_[e]);
   const Vec3 centre = shot_origin(pi);
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
     const Rgb ahead_e = over(e);

@@ -143,8 +143,8 @@ class ProgressiveSolver {
   // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
   // shot at it since then, so O(non-diffuse elements x sources per interval).
   std::vector<std::vector<Queued>> queue_;
-  // The shooting patch's elements' unshot radiosity (channel sum, in magnitude), for where
-  // it shoots from and how its near field is weighted.
+  // The shooting patch's elements' unshot radiosity (channel sum, in magnitude) times their
+  // open share, for where it shoots from and how its near field is weighted.
   std::vector<double> shot_weight_;
   std::vector<bool> planar_patch_;          // per patch: all its elements share its normal
   std::vector<bool> planar_mirror_;         // per surface, planar_mirrors()

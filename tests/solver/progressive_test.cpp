@@ -10,6 +10,7 @@
 
 #include "solver/form_factor_exact.h"
 #include "solver/ray_scene.h"
+#include "solver/vertex_radiosity.h"
 #include "tests/test_scenes.h"
 
 namespace bumprad {
@@ -155,6 +156,39 @@ TEST(Progressive, RaysFromALargePatchSampleItAtBoundedPoints) {
   const double error = std::abs(solver.radiosity()[receiver].g - exact) / exact;
   std::printf("6 x 6 lamp in one patch: relative error %.3g\n", error);
   EXPECT_LT(error, 1e-3);
+}
+
+// A glowing floor patch of two elements, one of them (and the patch's centre) under a
+// block: the patch shoots from its open part, so a receiver behind the block, hidden from
+// every open point of the floor, gets nothing. Shot from the patch centre, inside the block,
+// the hemi-cube saw through the block's walls (their backs face it and are culled).
+TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
+  Object floor = test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 2, 1, 1);
+  floor.density.patch_elements = 2;
+  Object block;
+  block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1.2, 1.2, 0.5), Vec3(0)};
+  block.density.counts = {2, 2};
+  Object behind = test::quad(
+      {Vec3(2.3, 0.4, 0.1), Vec3(2.3, 0.4, 0.3), Vec3(2.3, 0.6, 0.3), Vec3(2.3, 0.6, 0.1)});
+  Scene s = test::scene_of({floor, block, behind}, 0.5);
+  Material glow;
+  glow.reflectance = Rgb(0.5);
+  glow.emission = Rgb(1);
+  s.materials.push_back(glow);
+  s.solver.hemicube_resolution = 64;
+  Mesh mesh = build_mesh(s);
+  ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 2u) << "the floor is one patch";
+  RayScene rays(mesh);
+  const std::vector<double> open = open_share(mesh, rays);
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open);
+  ASSERT_TRUE(solver.shoot());
+  double block_light = 0, behind_light = 0;
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i)
+    (mesh.elements[i].object == 1 ? block_light : behind_light) +=
+        mesh.elements[i].object == 0 ? 0 : solver.radiosity()[i].g * mesh.elements[i].area;
+  std::printf("light on the block %.3g, behind it %.3g\n", block_light, behind_light);
+  EXPECT_GT(block_light, 0.01);
+  EXPECT_EQ(behind_light, 0.0);
 }
 
 // A lamp under a 2 x 2 ceiling, a floor 1 below: open on all four sides, so light escapes.
