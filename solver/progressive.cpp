@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -198,8 +199,11 @@ bool ProgressiveSolver::shoot() {
   // Ray-cast shots still render the hemi-cube when its pixels are needed: for specular
   // transfer or to shoot the perturbed map.
   const bool ray_cast = settings_.form_factors == FormFactorMethod::RayCast;
+  std::future<std::vector<VisibleElement>> aliased;
+  if (!ray_cast && rays_ && settings_.alias_pixels > 0)
+    aliased = std::async(std::launch::async, [this, pi] { return aliased_form_factors(pi); });
   if (!ray_cast || map_ || !sources.empty()) hemicube_.render(origin, frame, pi);
-  find_form_factors(pi, origin);
+  find_form_factors(pi, origin, aliased.valid() ? &aliased : nullptr);
 
   // Element i receives power dB_j A_j F_ji (then dB_i += rho_i dB_j F_ji A_j / A_i).
   double seen = 0;
@@ -429,7 +433,35 @@ double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
   return f * e.area / p.area;
 }
 
-void ProgressiveSolver::find_form_factors(std::uint32_t pi, const Vec3& origin) {
+// Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
+// face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole pixel
+// or not at all, so it takes its form factor from rays instead. Neither the list nor the
+// rays depend on the hemi-cube, so they run while it renders.
+std::vector<VisibleElement> ProgressiveSolver::aliased_form_factors(std::uint32_t pi) const {
+  const Patch& patch = mesh_.patches[pi];
+  const double near = kNearField * std::sqrt(patch.area);
+  const double pixel =
+      4.0 / (double(settings_.hemicube_resolution) * double(settings_.hemicube_resolution));
+  std::vector<VisibleElement> small;
+  for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
+    const Element& e = mesh_.elements[j];
+    Vec3 d = e.centroid - patch.centroid;
+    double r2 = glm::dot(d, d);
+    if (e.patch == pi || r2 < near * near) continue;
+    double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
+    if (cos_s <= 0 || cos_r <= 0) continue;
+    double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
+    if (solid_angle < settings_.alias_pixels * pixel) small.push_back({j, 0});
+  }
+  parallel_for(int(small.size()), [&](int k) {
+    VisibleElement& s = small[std::size_t(k)];
+    s.form_factor = ray_cast_form_factor_to(pi, s.element);
+  });
+  return small;
+}
+
+void ProgressiveSolver::find_form_factors(std::uint32_t pi, const Vec3& origin,
+                                          std::future<std::vector<VisibleElement>>* aliased) {
   const Patch& patch = mesh_.patches[pi];
   visible_.clear();
   if (settings_.form_factors == FormFactorMethod::RayCast) {
@@ -471,28 +503,9 @@ void ProgressiveSolver::find_form_factors(std::uint32_t pi, const Vec3& origin) 
   const double scale = corrected > 0 ? seen / corrected : 0;
   for (VisibleElement& v : visible_) v.form_factor *= scale;
 
-  // Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
-  // face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole
-  // pixel or not at all, so it takes its form factor from rays instead. The total changes
-  // by the difference; the ledger books it as escaped (or not) like any other.
-  if (rays_ && settings_.alias_pixels > 0) {
-    const double pixel =
-        4.0 / (double(settings_.hemicube_resolution) * double(settings_.hemicube_resolution));
-    std::vector<VisibleElement> small;
-    for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
-      const Element& e = mesh_.elements[j];
-      Vec3 d = e.centroid - patch.centroid;
-      double r2 = glm::dot(d, d);
-      if (e.patch == pi || r2 < near * near) continue;
-      double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
-      if (cos_s <= 0 || cos_r <= 0) continue;
-      double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
-      if (solid_angle < settings_.alias_pixels * pixel) small.push_back({j, 0});
-    }
-    parallel_for(int(small.size()), [&](int k) {
-      VisibleElement& s = small[std::size_t(k)];
-      s.form_factor = ray_cast_form_factor_to(pi, s.element);
-    });
+  // The aliasing receivers' ray-cast form factors, computed while the hemi-cube rendered.
+  if (aliased) {
+    const std::vector<VisibleElement> small = aliased->get();
     double total = seen;
     for (const VisibleElement& s : small) {
       if (visible_slot_[s.element] >= 0) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <future>
 #include <random>
 #include <span>
 #include <stop_token>
@@ -109,7 +110,10 @@ class ProgressiveSolver {
   double ray_cast_form_factor_to(std::uint32_t patch, std::uint32_t element) const;
   // The shot's form factors: the hemi-cube's, corrected in the near field and where it
   // aliases, or all by rays.
-  void find_form_factors(std::uint32_t patch, const Vec3& origin);
+  void find_form_factors(std::uint32_t patch, const Vec3& origin,
+                         std::future<std::vector<VisibleElement>>* aliased);
+  // The hemi-cube's aliasing receivers with their ray-cast form factors (see definition).
+  std::vector<VisibleElement> aliased_form_factors(std::uint32_t patch) const;
   // Specular power queued at a non-diffuse element by the patch it came from. `emission` is
   // the part that is an emitter's own emission meeting a planar mirror: its reflection is
   // direct light (the emitter's image; Lights::direct computes it exactly).
