@@ -354,14 +354,8 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
   }
 }
 
-}  // namespace
-
-double Mesh::diagonal() const {
-  return glm::length(bounds_max - bounds_min);
-}
-
-double default_element_size(const Scene& scene) {
-  if (scene.solver.element_size > 0) return scene.solver.element_size;
+// A sixteenth of the bounding-box diagonal of all objects: the scene's natural element size.
+double sixteenth_of_diagonal(const Scene& scene) {
   Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
   auto grow = [&](const Vec3& p, double r) {
     lo = glm::min(lo, p - Vec3(r));
@@ -390,6 +384,32 @@ double default_element_size(const Scene& scene) {
   return diag > 0 ? diag / 16 : 1.0;
 }
 
+// Elements per patch side: the object's setting, else the scene's, else automatic: patches
+// of about `patch_size` (the scene's natural element size) whatever the elements' size, at
+// least 2 x 2 (flat shapes: quads and boxes), so that a finer mesh refines what receives light, not
+// what shoots it. The Cornell box at 15 mm elements (8,992): 2 x 2 patches took 3,203 shots, 8.0 s;
+// 4 x 4 patches 885 shots, 3.0 s, with the same image error against the path tracer.
+int patch_elements(const Scene& scene, const Object& object, double element_size,
+                   double patch_size) {
+  if (object.density.patch_elements > 0) return object.density.patch_elements;
+  if (scene.solver.patch_elements > 0) return scene.solver.patch_elements;
+  // Curved surfaces keep small patches: one hemi-cube stands for a patch's whole face.
+  const bool flat = std::holds_alternative<QuadShape>(object.shape) ||
+                    std::holds_alternative<BoxShape>(object.shape);
+  if (!flat || object.density.counts[0] > 0 || !(element_size > 0)) return 2;
+  return std::max(2, int(std::lround(patch_size / element_size)));
+}
+
+}  // namespace
+
+double Mesh::diagonal() const {
+  return glm::length(bounds_max - bounds_min);
+}
+
+double default_element_size(const Scene& scene) {
+  return scene.solver.element_size > 0 ? scene.solver.element_size : sixteenth_of_diagonal(scene);
+}
+
 std::size_t estimate_element_count(const Object& object, double default_size) {
   double size = object.density.element_size > 0 ? object.density.element_size : default_size;
   if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
@@ -411,14 +431,14 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
 Mesh build_mesh(const Scene& scene) {
   Mesh mesh;
   double size = default_element_size(scene);
+  const double patch_size = sixteenth_of_diagonal(scene);
   double weld_tol = size * 1e-6;
   for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
     const Object& object = scene.objects[oi];
-    int k = object.density.patch_elements > 0 ? object.density.patch_elements
-                                              : std::max(1, scene.solver.patch_elements);
+    const double object_size = object.density.element_size > 0 ? object.density.element_size : size;
+    const int k = patch_elements(scene, object, object_size, patch_size);
     SurfaceBuilder sb(mesh, object, oi, weld_tol);
     if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
-      double object_size = object.density.element_size > 0 ? object.density.element_size : size;
       mesh_triangles(sb, *m, object.density, object_size, k);
     } else {
       for (const Grid& g : grids_for(object, size)) mesh_grid(sb, g, k);

@@ -171,7 +171,8 @@ struct SolverSettings {
   // max_shots allows. SolveStats reports the estimate.
   double tolerance = 0;
   double element_size = 0;      // 0: a sixteenth of the scene's bounding-box diagonal
-  int patch_elements = 2;       // elements per patch side (patches shoot, elements receive)
+  int patch_elements = 0;       // elements per patch side (patches shoot, elements receive);
+                                // 0: automatic, mesh.h's patch_elements()
   int preview_every = 10;       // shots per refinement step (callback, preview)
   bool rotate_hemicube = true;  // random rotation about N per shot against aliasing
   FormFactorMethod form_factors = FormFactorMethod::Hemicube;

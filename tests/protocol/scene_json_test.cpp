@@ -50,7 +50,7 @@ TEST(SceneJson, MinimalSceneGetsTheDefaults) {
   EXPECT_EQ(s.camera.width, 512);
   EXPECT_EQ(s.camera.up, Vec3(0, 1, 0));
   EXPECT_EQ(s.solver.hemicube_resolution, 150);
-  EXPECT_EQ(s.solver.patch_elements, 2);
+  EXPECT_EQ(s.solver.patch_elements, 0);  // automatic
   ASSERT_EQ(s.materials.size(), 2u);
   const Material& white = s.materials[std::size_t(s.objects[0].material)];
   const Material& lamp = s.materials[std::size_t(s.objects[1].material)];

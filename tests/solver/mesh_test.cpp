@@ -52,6 +52,34 @@ TEST(Mesh, ElementSizeSetsTheGridAndTheDefaultIsCoarse) {
   EXPECT_EQ(estimate_element_count(s.objects[0], default_element_size(s)), 126u);
 }
 
+// Patches keep about the default element size (a sixteenth of the diagonal) when elements
+// get finer, on flat shapes; curved ones and explicit settings keep their own.
+TEST(Mesh, FinerElementsOnFlatShapesShareLargerPatches) {
+  // A 3 x 2 quad: default size sqrt(13)/16 = 0.225; at 0.05, 60 x 40 elements, 4.5 a patch
+  // side, rounded to 5: 12 x 8 patches.
+  Scene s = test::scene_of({test::quad(test::rectangle_facing_down(3, 2, 0), 0, 0)});
+  s.objects[0].density.patch_elements = 0;
+  s.solver.element_size = 0.05;
+  Mesh m = build_mesh(s);
+  EXPECT_EQ(m.elements.size(), 2400u);
+  EXPECT_EQ(m.patches.size(), 96u);
+  s.solver.patch_elements = 2;
+  EXPECT_EQ(build_mesh(s).patches.size(), 600u) << "the scene's setting wins";
+  s.solver.patch_elements = 0;
+  s.objects[0].density.patch_elements = 3;
+  EXPECT_EQ(build_mesh(s).patches.size(), 20u * 14u) << "the object's setting wins";
+  s.objects[0].density.patch_elements = 0;
+  s.solver.element_size = 0.3;
+  EXPECT_EQ(build_mesh(s).patches.size(), 20u)
+      << "10 x 7 elements in 5 x 4 patches: never below 2 x 2";
+
+  Scene ball = one(SphereShape{Vec3(0), 1}, {.element_size = 0.05});
+  Mesh sphere = build_mesh(ball);
+  double most = 0;
+  for (const Patch& p : sphere.patches) most = std::max(most, double(p.count));
+  EXPECT_LE(most, 4) << "curved patches stay 2 x 2";
+}
+
 TEST(Mesh, BoxNormalsPointOutwardOrInwardWhenFlipped) {
   BoxShape box{Vec3(1, 2, 3), Vec3(2, 1, 0.5), Vec3(10, 20, 30)};
   for (bool flip : {false, true}) {
