@@ -1,7 +1,10 @@
 // Solve benchmark: per-shot cost split into item-buffer rendering, pixel accumulation and
 // the rest (shooter choice, near-field and aliasing corrections, distribution).
-//   build/bin/bumprad-bench-solve [SCENE] [--shots N] [--hemicube R]
-// SCENE defaults to builtin:paper-room. The numbers go in the README with the machine.
+//   build/bin/bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] [--element-size S]
+//                                 [--unshot F]
+// SCENE defaults to builtin:paper-room. Without --unshot the whole shot budget is spent;
+// with it the solve stops at that unshot fraction, as a job does. The numbers go in the
+// README with the machine.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -14,6 +17,7 @@
 #include "solver/mesh.h"
 #include "solver/progressive.h"
 #include "solver/ray_scene.h"
+#include "solver/vertex_radiosity.h"
 
 namespace {
 
@@ -34,16 +38,23 @@ int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source = "builtin:paper-room";
   int shots = -1, hemicube = -1;
+  double element_size = 0, unshot = 0;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--shots" && i + 1 < argc)
       shots = std::atoi(argv[++i]);
     else if (a == "--hemicube" && i + 1 < argc)
       hemicube = std::atoi(argv[++i]);
+    else if (a == "--element-size" && i + 1 < argc)
+      element_size = std::atof(argv[++i]);
+    else if (a == "--unshot" && i + 1 < argc)
+      unshot = std::atof(argv[++i]);
     else if (a[0] != '-')
       source = a;
     else {
-      std::fprintf(stderr, "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R]\n");
+      std::fprintf(stderr,
+                   "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] "
+                   "[--element-size S] [--unshot F]\n");
       return 2;
     }
   }
@@ -51,12 +62,15 @@ int main(int argc, char** argv) {
     Scene scene = load_scene(source);
     if (shots > 0) scene.solver.max_shots = shots;
     if (hemicube > 0) scene.solver.hemicube_resolution = hemicube;
-    scene.solver.unshot_fraction = 0;  // spend the whole shot budget
+    if (element_size > 0) scene.solver.element_size = element_size;
+    scene.solver.unshot_fraction = unshot;  // 0: spend the whole shot budget
 
     auto t0 = Clock::now();
     Mesh mesh = build_mesh(scene);
-    RayScene rays(mesh);  // as solve() does: the aliasing fallback (or ray-cast mode) uses it
-    ProgressiveSolver solver(mesh, scene.materials, scene.solver, &rays);
+    // As solve() does: rays for the aliasing fallback (or ray-cast mode), open shares.
+    RayScene rays(mesh);
+    const std::vector<double> open = open_share(mesh, rays);
+    ProgressiveSolver solver(mesh, scene.materials, scene.solver, &rays, open);
     double setup = seconds_since(t0);
 
     // Diffuse shots and shots that also carry specular transfer (mirrors, glossy) apart.
@@ -95,8 +109,10 @@ int main(int argc, char** argv) {
       row("specular transfer", specular);
       row("such a whole shot", specular_total);
     }
-    std::printf("set-up %.3f s (mesh, GL context, buffers); solve total %.3f s; unshot %.2f%%\n",
-                setup, solve, 100 * solver.unshot_fraction());
+    std::printf(
+        "set-up %.3f s (mesh, rays, open shares, GL context, buffers); solve total %.3f s; "
+        "unshot %.2f%%\n",
+        setup, solve, 100 * solver.unshot_fraction());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bumprad-bench-solve: %s\n", e.what());
     return 1;
