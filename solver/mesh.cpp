@@ -384,11 +384,12 @@ double sixteenth_of_diagonal(const Scene& scene) {
   return diag > 0 ? diag / 16 : 1.0;
 }
 
-// Elements per patch side: the object's setting, else the scene's, else automatic: patches
-// of about `patch_size` (the scene's natural element size) whatever the elements' size, at
-// least 2 x 2 (flat shapes: quads and boxes), so that a finer mesh refines what receives light, not
-// what shoots it. The Cornell box at 15 mm elements (8,992): 2 x 2 patches took 3,203 shots, 8.0 s;
-// 4 x 4 patches 885 shots, 3.0 s, with the same image error against the path tracer.
+// Elements per patch side: the object's setting, else the scene's, else automatic: on flat
+// shapes (quads, boxes) patches of about `patch_size` (the scene's natural element size)
+// whatever the elements' size, at least 2 x 2, so that a finer mesh refines what receives
+// light, not what shoots it. The Cornell box at 15 mm elements (8,992): 2 x 2 patches took
+// 3,203 shots, 8.0 s; 4 x 4 patches 885 shots, 3.0 s, with the same image error against
+// the path tracer.
 int patch_elements(const Scene& scene, const Object& object, double element_size,
                    double patch_size) {
   if (object.density.patch_elements > 0) return object.density.patch_elements;

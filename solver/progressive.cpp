@@ -24,6 +24,9 @@ double channel_sum(const Rgb& c) {
 
 // Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
 constexpr double kNearField = 3.0;
+double near_field_radius(const Patch& patch) {
+  return kNearField * std::sqrt(patch.area);
+}
 
 // Shadow rays start and end this far (in scene diagonals) off their surfaces: Embree works
 // in single precision, and at 1e-6 a ray from a slightly tilted wall of the Cornell box
@@ -173,14 +176,12 @@ bool ProgressiveSolver::shoot() {
   Rgb shot_power(0), emission_power(0);
   std::vector<Queued> sources;
   double left = 0;
-  // An element's share is its reflectance times the ambient light on its open part.
-  auto over = [&](std::uint32_t e) { return reflectance_[e] * ahead * open_[e]; };
   shot_weight_.clear();
-  for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-    shot_weight_.push_back(std::abs(channel_sum(unshot_[e] + over(e))) * open_[e]);
-  const Vec3 centre = shot_origin(pi);
   for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e) {
-    const Rgb ahead_e = over(e);
+    // An element's share is its reflectance times the ambient light on its open part.
+    const Rgb ahead_e = reflectance_[e] * ahead * open_[e];
+    shot_weight_.push_back(std::abs(channel_sum(unshot_[e] + ahead_e)) * open_[e] *
+                           mesh_.elements[e].area);
     shot_power += (unshot_[e] + ahead_e) * mesh_.elements[e].area;
     emission_power += unshot_emission_[e] * mesh_.elements[e].area;
     unshot_[e] = -ahead_e;
@@ -194,7 +195,7 @@ bool ProgressiveSolver::shoot() {
   double angle = 0;
   if (settings_.rotate_hemicube)
     angle = std::uniform_real_distribution<double>(0, 2 * std::numbers::pi)(rng_);
-  Vec3 origin = centre + patch.normal * (mesh_.diagonal() * 1e-6);
+  Vec3 origin = shot_origin(pi) + patch.normal * (mesh_.diagonal() * 1e-6);
   const Frame frame = frame_about(patch.normal, angle);
   // Ray-cast shots still render the hemi-cube when its pixels are needed: for specular
   // transfer or to shoot the perturbed map.
@@ -253,11 +254,10 @@ bool ProgressiveSolver::shoot() {
 Vec3 ProgressiveSolver::shot_origin(std::uint32_t pi) const {
   const Patch& patch = mesh_.patches[pi];
   if (!planar_patch_[pi]) return patch.centroid;
-  std::vector<double> weight(patch.count);
+  const std::vector<double>& weight = shot_weight_;
   double total = 0;
   Vec3 centre(0);
   for (std::uint32_t k = 0; k < patch.count; ++k) {
-    weight[k] = shot_weight_[k] * mesh_.elements[patch.first + k].area;
     total += weight[k];
     centre += weight[k] * mesh_.elements[patch.first + k].centroid;
   }
@@ -400,12 +400,13 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
   double at_origin = point_to_polygon(origin, n, receiver);
   if (!(at_origin > 0)) return hemicube_form_factor;
   double visible = std::min(1.0, hemicube_form_factor / at_origin);
-  // Each point of the shooter counts with the power it shoots (shot_weight_): a patch lit
-  // at one end sends its near neighbours the light of that end.
+  // Each point of the shooter counts with the power it shoots (shot_weight_, its element's,
+  // which the element's four quarter points share alike): a patch lit at one end sends its
+  // near neighbours the light of that end.
   const auto& samples = samples_[patch];
   double mean = 0, weights = 0;
   for (std::size_t k = 0; k < samples.size(); ++k) {
-    const double w = samples[k].area * shot_weight_[k / 4];
+    const double w = shot_weight_[k / 4];
     mean += w * point_to_polygon(samples[k].point, n, receiver);
     weights += w;
   }
@@ -422,7 +423,7 @@ double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
   const auto& samples = ray_samples_[patch];
   double f = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, rays_,
                                   kRayOffset * mesh_.diagonal());
-  if (glm::length(e.centroid - p.centroid) < kNearField * std::sqrt(p.area)) {
+  if (glm::length(e.centroid - p.centroid) < near_field_radius(p)) {
     double open = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, nullptr, 0);
     double exact = 0;
     std::array<Vec3, 4> storage;
@@ -439,7 +440,7 @@ double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
 // rays depend on the hemi-cube, so they run while it renders.
 std::vector<VisibleElement> ProgressiveSolver::aliased_form_factors(std::uint32_t pi) const {
   const Patch& patch = mesh_.patches[pi];
-  const double near = kNearField * std::sqrt(patch.area);
+  const double near = near_field_radius(patch);
   const double pixel =
       4.0 / (double(settings_.hemicube_resolution) * double(settings_.hemicube_resolution));
   std::vector<VisibleElement> small;
@@ -485,7 +486,7 @@ void ProgressiveSolver::find_form_factors(std::uint32_t pi, const Vec3& origin,
   // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
   // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
   visible_ = hemicube_.form_factors();
-  const double near = kNearField * std::sqrt(patch.area);
+  const double near = near_field_radius(patch);
   std::vector<std::size_t> close;
   double seen = 0;
   for (std::size_t k = 0; k < visible_.size(); ++k) {

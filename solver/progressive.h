@@ -147,8 +147,8 @@ class ProgressiveSolver {
   // its patch last shot (the paper's irradiation queues). Memory: one entry per source that
   // shot at it since then, so O(non-diffuse elements x sources per interval).
   std::vector<std::vector<Queued>> queue_;
-  // The shooting patch's elements' unshot radiosity (channel sum, in magnitude) times their
-  // open share, for where it shoots from and how its near field is weighted.
+  // The power each of the shooting patch's elements shoots from its open part (channel
+  // sum, in magnitude), for where the patch shoots from and how its near field is weighted.
   std::vector<double> shot_weight_;
   std::vector<bool> planar_patch_;          // per patch: all its elements share its normal
   std::vector<bool> planar_mirror_;         // per surface, planar_mirrors()
