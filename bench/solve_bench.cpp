@@ -1,7 +1,7 @@
 // Solve benchmark: per-shot cost split into item-buffer rendering, pixel accumulation and
 // the rest (shooter choice, near-field and aliasing corrections, distribution).
 //   build/bin/bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] [--element-size S]
-//                                 [--unshot F]
+//                                 [--patch-elements K] [--unshot F]
 // SCENE defaults to builtin:paper-room. Without --unshot the whole shot budget is spent;
 // with it the solve stops at that unshot fraction, as a job does. The numbers go in the
 // README with the machine.
@@ -37,7 +37,7 @@ Summary summarize(std::vector<double> v) {
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source = "builtin:paper-room";
-  int shots = -1, hemicube = -1;
+  int shots = -1, hemicube = -1, patch_elements = 0;
   double element_size = 0, unshot = 0;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -47,6 +47,8 @@ int main(int argc, char** argv) {
       hemicube = std::atoi(argv[++i]);
     else if (a == "--element-size" && i + 1 < argc)
       element_size = std::atof(argv[++i]);
+    else if (a == "--patch-elements" && i + 1 < argc)
+      patch_elements = std::atoi(argv[++i]);
     else if (a == "--unshot" && i + 1 < argc)
       unshot = std::atof(argv[++i]);
     else if (a[0] != '-')
@@ -54,7 +56,7 @@ int main(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] "
-                   "[--element-size S] [--unshot F]\n");
+                   "[--element-size S] [--patch-elements K] [--unshot F]\n");
       return 2;
     }
   }
@@ -63,6 +65,7 @@ int main(int argc, char** argv) {
     if (shots > 0) scene.solver.max_shots = shots;
     if (hemicube > 0) scene.solver.hemicube_resolution = hemicube;
     if (element_size > 0) scene.solver.element_size = element_size;
+    if (patch_elements > 0) scene.solver.patch_elements = patch_elements;
     scene.solver.unshot_fraction = unshot;  // 0: spend the whole shot budget
 
     auto t0 = Clock::now();
