@@ -85,7 +85,7 @@ ColorTexture parse_texture(const Node& n, const ImageFiles& files) {
 // A whole camera, or with `base` only the keys that change it.
 Camera parse_camera(const Node& n, const Camera* base = nullptr) {
   n.allow_only({"position", "look_at", "up", "fov_deg", "width", "height", "exposure", "antialias",
-                "max_depth", "glossy_samples", "shadow_rays"});
+                "antialias_max", "max_depth", "glossy_samples", "shadow_rays"});
   Camera c = base ? *base : Camera{};
   if (!base || n.get("position")) c.position = n["position"].vec3();
   if (!base || n.get("look_at")) c.look_at = n["look_at"].vec3();
@@ -99,6 +99,8 @@ Camera parse_camera(const Node& n, const Camera* base = nullptr) {
   if (auto v = n.get("height")) c.height = int(v->integer(1, Limits::kMaxImageSide));
   if (auto v = n.get("exposure")) c.exposure = v->positive();
   if (auto v = n.get("antialias")) c.antialias = int(v->integer(1, Limits::kMaxAntialias));
+  if (auto v = n.get("antialias_max"))
+    c.antialias_max = int(v->integer(0, Limits::kMaxAntialiasMax));
   if (auto v = n.get("max_depth")) c.max_depth = int(v->integer(0, 16));
   if (auto v = n.get("glossy_samples")) c.glossy_samples = int(v->integer(1, 256));
   if (auto v = n.get("shadow_rays")) c.shadow_rays = int(v->integer(1, 256));

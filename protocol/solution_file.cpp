@@ -197,6 +197,7 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
   count_map_stats(out.scene, s);
   s.rays = std::make_unique<RayScene>(*s.mesh);
   s.open = open_share(*s.mesh, *s.rays);
+  if (!s.direct.empty()) s.near = std::make_unique<NearField>(*s.mesh, *s.rays, s.open);
   return out;
 }
 

@@ -16,6 +16,12 @@ Camera draft_camera(Camera camera) {
   return camera;
 }
 
+int adaptive_antialias(const Camera& camera) {
+  if (camera.antialias <= 1) return 0;
+  return camera.antialias_max > 0 ? camera.antialias_max
+                                  : std::min(2 * camera.antialias, Limits::kMaxAntialiasMax);
+}
+
 PinholeCamera::PinholeCamera(const Camera& c)
     : position_(c.position),
       forward_(glm::normalize(c.look_at - c.position)),

@@ -14,6 +14,11 @@ struct Ray {
 // solve.
 Camera draft_camera(Camera camera);
 
+// The grid m of adaptive antialiasing: pixels whose n x n samples disagree are sampled again
+// on an m x m grid. camera.antialias_max, or 0 for 2n (at most Limits::kMaxAntialiasMax); at
+// most n (and with n = 1, which gives no disagreement to see) turns it off.
+int adaptive_antialias(const Camera& camera);
+
 class PinholeCamera {
  public:
   explicit PinholeCamera(const Camera& camera);

@@ -25,6 +25,7 @@ struct Limits {
   static constexpr int kMaxShots = 1'000'000;
   static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
   static constexpr int kMaxAntialias = 8;
+  static constexpr int kMaxAntialiasMax = 16;  // the adaptive grid (camera.h)
   // Coordinates and sizes, in scene units: squares and cross products must not overflow.
   static constexpr double kMaxMagnitude = 1e12;
 };
@@ -38,6 +39,7 @@ struct Camera {
   int height = 512;
   double exposure = 1;     // multiplies radiance before tone mapping
   int antialias = 1;       // n: an n x n stratified grid of rays per pixel
+  int antialias_max = 0;   // m: pixels whose n x n rays disagree get m x m; 0: 2n (camera.h)
   int max_depth = 5;       // specular bounces followed from the eye
   int glossy_samples = 8;  // lobe samples at the first glossy surface a ray meets
   int shadow_rays = 4;     // per ray hit, toward the emitters (DirectLight::Exact)

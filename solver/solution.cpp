@@ -21,6 +21,8 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   out.map = make_map(scene, mesh);
   out.rays = std::make_unique<RayScene>(mesh);
   out.open = open_share(mesh, *out.rays);
+  const bool exact = scene.solver.direct_light == DirectLight::Exact;
+  if (exact) out.near = std::make_unique<NearField>(mesh, *out.rays, out.open);
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
@@ -35,7 +37,6 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
     }
     return on_step(s, out);
   };
-  const bool exact = scene.solver.direct_light == DirectLight::Exact;
   const auto take = [&] {
     out.radiosity = solver.radiosity();
     out.display = solver.display_radiosity();
@@ -173,6 +174,11 @@ Image render_solution(const Scene& scene, const Solution& solution, std::span<co
   for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
   const Lights lights(*solution.mesh, scene.materials);
   detail.lights = &lights;
+  std::vector<Rgb> reflected(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < reflected.size(); ++i)
+    reflected[i] -= scene.materials[std::size_t(solution.mesh->elements[i].material)].emission;
+  detail.near = solution.near.get();
+  detail.reflected = reflected;
   return render_view(*solution.mesh, *solution.rays, scene.camera, indirect, detail, stop);
 }
 

