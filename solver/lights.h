@@ -85,6 +85,19 @@ class Lights {
     Rgb emission;
     double weight;  // channel sum of E
   };
+  // The emitter elements of one patch with one emission in one plane, for direct(): from afar
+  // Lambert's form factor to their outline is the sum of theirs (one polygon where a lamp of
+  // 2 x 2 elements took four), and a shadow ray picks one of them by area.
+  struct Group {
+    std::vector<Vec3> outline;
+    std::vector<std::uint32_t> elements;
+    std::vector<double> cumulative;  // by area, normalised
+    Rgb emission;
+    double weight;  // channel sum of E
+    Vec3 point, normal;
+    Vec3 centre;    // of area
+    double radius;  // the farthest outline corner from the centre
+  };
   struct Mirror {
     std::uint32_t surface;
     Vec3 point, normal;
@@ -93,6 +106,9 @@ class Lights {
     // A direction's mirror image (an emitter's normal, seen in the mirror).
     Vec3 turn(const Vec3& d) const { return d - 2 * glm::dot(d, normal) * normal; }
   };
+  void group_emitters();
+  // The outline of coplanar elements that make one simple region (corners only), or empty.
+  std::vector<Vec3> planar_outline(std::span<const std::uint32_t> elements) const;
   Vec3 point_on(const Element& e, Random& random) const;
   // Density per solid angle of sample() choosing a point on emitter element `element`
   // (0 for no emitter) seen at `distance` and cosine `cos_there` to its normal.
@@ -105,6 +121,7 @@ class Lights {
 
   const Mesh& mesh_;
   std::vector<Emitter> emitters_;
+  std::vector<Group> groups_;
   std::vector<Mirror> mirrors_;
   std::vector<double> cumulative_;  // by power, normalised
   double total_power_ = 0;          // sum of area times E's channel sum

@@ -115,6 +115,10 @@ TEST(Lights, FewerRaysThanEmittersStayExactInTheOpenAndUnbiasedInShadow) {
   Random random(5);
   const Vec3 x(1.2, 0.4, 0);
   EXPECT_NEAR(open_lights.direct(x, up, up, *open.rays, 4, random).g / open.exact(x, up), 1, 1e-12);
+  // From afar each patch of the lamp counts as one polygon, its outline: still exact.
+  const Vec3 far(6, 0.5, 0);
+  EXPECT_NEAR(open_lights.direct(far, up, up, *open.rays, 4, random).g / open.exact(far, up), 1,
+              1e-12);
 
   const Room half(0.0625, /*blocker=*/true);
   const Lights lights(half.mesh, half.scene.materials);
