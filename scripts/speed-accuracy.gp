@@ -32,6 +32,7 @@ plot rows("perturbed","gather") using ($3*24):5 w lp pt 7 t "sampled normals, ga
      rows("perturbed","shoot_sh") using ($3*24):5 w p pt 11 ps 1.5 t "spherical harmonics 0-2+4, shot"
 set format x "10^{%L}"
 
+set yrange [0.005:2]  # the same scale for the three scenes, 1 % well inside
 do for [scene in "cornell wrinkled-box paper-room"] {
   set title sprintf("%s (128 x 128) vs path-traced ground truth", scene)
   set xlabel "seconds to the image (solve and render; path tracer: render)"
