@@ -106,7 +106,17 @@ class ProgressiveSolver {
                                 double hemicube_form_factor) const;
   // Where the patch shoots from: the centre of the power it shoots (see the definition).
   Vec3 shot_origin(std::uint32_t patch) const;
-  // F from the patch to the element by rays (Wallace et al. 1989), exact where near.
+  // A point shadow rays sample on a patch: it stands for `share` of the patch's elements
+  // [begin, end) (offsets in the patch).
+  struct RaySample {
+    Vec3 point;
+    std::uint32_t begin, end;
+    double share;
+  };
+  static std::vector<RaySample> ray_samples(const Mesh& mesh, const Patch& patch);
+  void weigh_ray_samples(std::uint32_t patch);
+  // F from the shooting patch to the element by rays (Wallace et al. 1989), exact where
+  // near, the patch's parts weighed by the power they shoot.
   double ray_cast_form_factor_to(std::uint32_t patch, std::uint32_t element) const;
   // The shot's form factors: the hemi-cube's, corrected in the near field and where it
   // aliases, or all by rays.
@@ -134,8 +144,11 @@ class ProgressiveSolver {
   const Mesh& mesh_;
   SolverSettings settings_;
   const RayScene* rays_;
-  std::vector<std::vector<AreaSample>> samples_;      // per patch: near field (quarter points)
-  std::vector<std::vector<AreaSample>> ray_samples_;  // per patch: shadow rays, kRaySamples
+  std::vector<std::vector<AreaSample>> samples_;     // per patch: near field (quarter points)
+  std::vector<std::vector<RaySample>> ray_samples_;  // per patch: shadow rays, kRaySamples
+  // The shooting patch's area per element as it shoots, and its ray samples so weighed.
+  std::vector<double> shot_area_;
+  std::vector<AreaSample> shot_samples_;
   Hemicube hemicube_;
   std::vector<VisibleElement> visible_;     // the current shot's form factors
   std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1
