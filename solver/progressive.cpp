@@ -464,11 +464,12 @@ void ProgressiveSolver::weigh_ray_samples(std::uint32_t pi) {
 
 // Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
 // face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole pixel
-// or not at all, so it takes its form factor from rays instead. Neither the list nor the
-// rays depend on the hemi-cube, so they run while it renders.
+// or not at all, so it takes its form factor from rays instead, near the patch too (where a
+// receiver no pixel sees got nothing before: the near field corrects only what the
+// hemi-cube saw). Neither the list nor the rays depend on the hemi-cube, so they run while
+// it renders.
 std::vector<VisibleElement> ProgressiveSolver::aliased_form_factors(std::uint32_t pi) const {
   const Patch& patch = mesh_.patches[pi];
-  const double near = near_field_radius(patch);
   const double pixel =
       4.0 / (double(settings_.hemicube_resolution) * double(settings_.hemicube_resolution));
   std::vector<VisibleElement> small;
@@ -476,7 +477,7 @@ std::vector<VisibleElement> ProgressiveSolver::aliased_form_factors(std::uint32_
     const Element& e = mesh_.elements[j];
     Vec3 d = e.centroid - patch.centroid;
     double r2 = glm::dot(d, d);
-    if (e.patch == pi || r2 < near * near) continue;
+    if (e.patch == pi) continue;
     double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
     if (cos_s <= 0 || cos_r <= 0) continue;
     double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));

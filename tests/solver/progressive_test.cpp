@@ -169,34 +169,38 @@ TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
   EXPECT_EQ(behind_light, 0.0);
 }
 
-// A glowing floor patch of two 1 m elements, the second under a block, and a 20 cm receiver
-// 6 m above the open one, which a 32-pixel hemi-cube sees in a third of a pixel, so rays
-// from the patch give its form factor. They weigh the patch's points by their open area:
-// the patch's power (2 E: a patch shoots all it holds from its open part) leaves the open
-// element, and the receiver (rho 0.5) gets rho 2 E F(receiver -> open element), Lambert's
-// closed form, within 2 % (weighed by the whole area the buried element's rays, all hidden,
-// took half of it away).
+// A glowing floor patch of two 1 m elements, the second under a block, and a receiver above
+// the open one that a 32-pixel hemi-cube sees in a fraction of a pixel, so rays from the
+// patch give its form factor: 20 cm at 6 m, and 10 cm at 3 m, within the patch's near field
+// (which the rays once skipped: the receiver got nothing). They weigh the patch's points by
+// their open area: the patch's power (2 E: a patch shoots all it holds from its open part)
+// leaves the open element, and the receiver (rho 0.5) gets rho 2 E F(receiver -> open
+// element), Lambert's closed form, within 2 % (weighed by the whole area the buried
+// element's rays, all hidden, took half of it away).
 TEST(Progressive, RaysFromAHalfBuriedPatchCountItsOpenHalf) {
-  Object floor = test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 2, 1, 1);
-  floor.density.patch_elements = 2;
-  Object block;
-  block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1, 1.2, 0.5), Vec3(0)};
-  block.density.counts = {2, 2};
-  Object receiver = test::quad(test::rectangle_facing_down(0.2, 0.2, 6));
-  for (Vec3& c : std::get<QuadShape>(receiver.shape).corners) c += Vec3(0.5, 0.5, 0);
-  Scene s = test::scene_of({floor, block, receiver}, 0.5);
-  Material glow;
-  glow.reflectance = Rgb(0);  // nothing to overshoot: the patch shoots just its 2 E
-  glow.emission = Rgb(1);
-  s.materials.push_back(glow);
-  s.solver.hemicube_resolution = 32;
-  const Mesh mesh = build_mesh(s);
-  const RayScene rays(mesh);
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open_share(mesh, rays));
-  ASSERT_TRUE(solver.shoot());
-  const std::array<Vec3, 4> open = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
-  const double exact = point_to_polygon(Vec3(0.5, 0.5, 6), Vec3(0, 0, -1), open);
-  EXPECT_NEAR(solver.radiosity().back().g / exact, 1, 0.02);
+  for (const auto& [size, height] : {std::pair{0.2, 6.0}, std::pair{0.1, 3.0}}) {
+    Object floor =
+        test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 2, 1, 1);
+    floor.density.patch_elements = 2;
+    Object block;
+    block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1, 1.2, 0.5), Vec3(0)};
+    block.density.counts = {2, 2};
+    Object receiver = test::quad(test::rectangle_facing_down(size, size, height));
+    for (Vec3& c : std::get<QuadShape>(receiver.shape).corners) c += Vec3(0.5, 0.5, 0);
+    Scene s = test::scene_of({floor, block, receiver}, 0.5);
+    Material glow;
+    glow.reflectance = Rgb(0);  // nothing to overshoot: the patch shoots just its 2 E
+    glow.emission = Rgb(1);
+    s.materials.push_back(glow);
+    s.solver.hemicube_resolution = 32;
+    const Mesh mesh = build_mesh(s);
+    const RayScene rays(mesh);
+    ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open_share(mesh, rays));
+    ASSERT_TRUE(solver.shoot());
+    const std::array<Vec3, 4> open = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+    const double exact = point_to_polygon(Vec3(0.5, 0.5, height), Vec3(0, 0, -1), open);
+    EXPECT_NEAR(solver.radiosity().back().g / exact, 1, 0.02) << height << " m up";
+  }
 }
 
 // A lamp under a 2 x 2 ceiling, a floor 1 below: open on all four sides, so light escapes.
