@@ -120,10 +120,9 @@ void Lights::group_emitters() {
     }
     for (std::uint32_t i : elements) {  // curved, or not one simple region: one by one
       const Element& e = mesh_.elements[i];
-      std::vector<Vec3> corners;
-      for (int k = 0; k < e.vertex_count; ++k)
-        corners.push_back(mesh_.vertices[e.v[std::size_t(k)]].position);
-      add({i}, std::move(corners));
+      std::array<Vec3, 4> storage;
+      const std::span<const Vec3> corners = element_corners(mesh_, e, storage);
+      add({i}, std::vector<Vec3>(corners.begin(), corners.end()));
     }
   }
 }
@@ -321,20 +320,16 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
     seen.push_back({elements, cumulative, &g, mirror, f, share});
     total += share;
   };
-  std::array<Vec3, 4> element_corners;
+  std::array<Vec3, 4> storage;
   auto consider_group = [&](const Group& g, const Mirror* mirror) {
     const Vec3 centre = mirror ? mirror->reflect(g.centre) : g.centre;
     if (g.elements.size() == 1 || glm::length(x - centre) > kGroupReach * g.radius) {
       consider(g, g.elements, g.cumulative, g.outline, mirror);
       return;
     }
-    for (std::size_t k = 0; k < g.elements.size(); ++k) {
-      const Element& e = mesh_.elements[g.elements[k]];
-      for (int c = 0; c < e.vertex_count; ++c)
-        element_corners[std::size_t(c)] = mesh_.vertices[e.v[std::size_t(c)]].position;
+    for (std::size_t k = 0; k < g.elements.size(); ++k)
       consider(g, {&g.elements[k], 1}, {&kWhole, 1},
-               {element_corners.data(), std::size_t(e.vertex_count)}, mirror);
-    }
+               element_corners(mesh_, mesh_.elements[g.elements[k]], storage), mirror);
   };
   for (const Group& g : groups_) consider_group(g, nullptr);
   for (const Mirror& m : mirrors_)

@@ -464,4 +464,11 @@ Mesh build_mesh(const Scene& scene) {
   return mesh;
 }
 
+std::span<const Vec3> element_corners(const Mesh& mesh, const Element& e,
+                                      std::array<Vec3, 4>& storage) {
+  for (int k = 0; k < e.vertex_count; ++k)
+    storage[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
+  return {storage.data(), std::size_t(e.vertex_count)};
+}
+
 }  // namespace bumprad

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -62,6 +63,10 @@ double default_element_size(const Scene& scene);
 std::size_t estimate_element_count(const Object& object, double default_size);
 
 Mesh build_mesh(const Scene& scene);
+
+// The corners of `e` (3 or 4), written into `storage`: a polygon for Lambert's formula.
+std::span<const Vec3> element_corners(const Mesh& mesh, const Element& e,
+                                      std::array<Vec3, 4>& storage);
 
 // Area, centroid and normal of `e` from its corners (the triangles (v0,v1,v2) and
 // (v0,v2,v3)); false if it is degenerate.

@@ -23,18 +23,12 @@ constexpr double kReach = 1.5;
 // would hide is then a division by almost nothing.
 constexpr double kMaxCovered = 0.9;
 
-std::span<const Vec3> corners(const Mesh& mesh, const Element& e, std::array<Vec3, 4>& storage) {
-  for (int k = 0; k < e.vertex_count; ++k)
-    storage[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
-  return {storage.data(), std::size_t(e.vertex_count)};
-}
-
 // Lambert's form factor from a point to element `e` of `mesh`, which is one-sided: zero
 // from behind it.
 double form_factor(const Mesh& mesh, const Element& e, const Vec3& point, const Vec3& normal) {
   if (glm::dot(e.normal, point - e.centroid) <= 0) return 0;
   std::array<Vec3, 4> storage;
-  return point_to_polygon(point, normal, corners(mesh, e, storage));
+  return point_to_polygon(point, normal, element_corners(mesh, e, storage));
 }
 
 // Points standing for equal parts of an element: the centres of a 4 x 4 grid over (u, v),

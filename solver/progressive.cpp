@@ -33,13 +33,6 @@ double near_field_radius(const Patch& patch) {
 // (coordinates near 550) hit the wall itself.
 constexpr double kRayOffset = 1e-4;
 
-// An element's corners (in `storage`), for Lambert's formula.
-std::span<const Vec3> corners(const Mesh& mesh, const Element& e, std::array<Vec3, 4>& storage) {
-  for (int k = 0; k < e.vertex_count; ++k)
-    storage[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
-  return {storage.data(), std::size_t(e.vertex_count)};
-}
-
 // Shadow-ray form factors sample a patch at this many points at most.
 constexpr std::size_t kRaySamples = 16;
 
@@ -397,7 +390,7 @@ double ProgressiveSolver::near_field_form_factor(std::uint32_t patch, const Vec3
                                                  std::uint32_t element,
                                                  double hemicube_form_factor) const {
   std::array<Vec3, 4> storage;
-  std::span<const Vec3> receiver = corners(mesh_, mesh_.elements[element], storage);
+  std::span<const Vec3> receiver = element_corners(mesh_, mesh_.elements[element], storage);
   const Vec3& n = mesh_.patches[patch].normal;
   double at_origin = point_to_polygon(origin, n, receiver);
   if (!(at_origin > 0)) return hemicube_form_factor;
@@ -432,7 +425,7 @@ double ProgressiveSolver::ray_cast_form_factor_to(std::uint32_t patch,
     for (std::uint32_t k = 0; k < p.count; ++k)
       exact += shot_area_[k] / mesh_.elements[p.first + k].area *
                point_to_polygon(e.centroid, e.normal,
-                                corners(mesh_, mesh_.elements[p.first + k], storage));
+                                element_corners(mesh_, mesh_.elements[p.first + k], storage));
     f = open > 0 ? exact * f / open : 0;
   }
   return f * e.area / p.area;
