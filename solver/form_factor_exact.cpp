@@ -8,6 +8,41 @@
 #include <glm/geometric.hpp>
 
 namespace bumprad {
+namespace {
+
+// atan(x) for x >= 0 (Moshier's Cephes: reduced to |x| <= 0.66 by atan(x) = pi/4 +
+// atan((x - 1)/(x + 1)) or pi/2 - atan(1/x), then x + x^3 P(x^2)/Q(x^2)).
+double atan_nonnegative(double x) {
+  static constexpr std::array<double, 5> kP = {
+      -8.750608600031904122785e-1, -1.615753718733365076637e1, -7.500855792314704667340e1,
+      -1.228866684490136173410e2, -6.485021904942025371773e1};
+  static constexpr std::array<double, 5> kQ = {2.485846490142306297962e1, 1.650270098316988542046e2,
+                                               4.328810604912902668951e2, 4.853903996359136964868e2,
+                                               1.945506571482613964425e2};
+  constexpr double kMoreBits = 6.123233995736765886130e-17;  // pi/2 less its double
+  double base = 0, extra = 0;
+  if (x > 2.41421356237309504880) {  // tan(3 pi / 8)
+    base = std::numbers::pi / 2;
+    extra = kMoreBits;
+    x = -1 / x;
+  } else if (x > 0.66) {
+    base = std::numbers::pi / 4;
+    extra = 0.5 * kMoreBits;
+    x = (x - 1) / (x + 1);
+  }
+  const double z = x * x;
+  const double p = (((kP[0] * z + kP[1]) * z + kP[2]) * z + kP[3]) * z + kP[4];
+  const double q = ((((z + kQ[0]) * z + kQ[1]) * z + kQ[2]) * z + kQ[3]) * z + kQ[4];
+  return base + (x * z * p / q + x + extra);
+}
+
+}  // namespace
+
+double angle(double y, double x) {
+  if (x > 0) return atan_nonnegative(y / x);
+  if (x < 0) return std::numbers::pi - atan_nonnegative(y / -x);
+  return y > 0 ? std::numbers::pi / 2 : 0;
+}
 
 double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
   // Sutherland-Hodgman against the plane normal . (x - point) >= 0; at most two vertices
@@ -35,7 +70,7 @@ double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const V
     Vec3 c = glm::cross(a, b);
     double len = glm::length(c);
     if (len <= 0) continue;
-    double gamma = std::atan2(len, glm::dot(a, b));
+    double gamma = angle(len, glm::dot(a, b));
     sum += gamma * glm::dot(normal, c) / len;
   }
   return std::abs(sum) / (2 * std::numbers::pi);
