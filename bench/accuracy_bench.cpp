@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -22,14 +21,15 @@
 #include "bench/truth_metrics.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
-#include "solver/form_factor_exact.h"
-#include "solver/hemicube.h"
-#include "solver/mesh.h"
-#include "solver/path_tracer.h"
-#include "solver/perturbed_map.h"
-#include "solver/progressive.h"
-#include "solver/ray_cast_form_factor.h"
+#include "solver/radiosity/form_factor_exact.h"
+#include "solver/radiosity/hemicube.h"
+#include "solver/radiosity/perturbed_map.h"
+#include "solver/radiosity/progressive.h"
+#include "solver/radiosity/ray_cast_form_factor.h"
+#include "solver/render/path_tracer.h"
+#include "solver/scene/mesh.h"
 #include "solver/solution.h"
+#include "solver/util/random.h"
 
 namespace bumprad {
 namespace {
@@ -40,8 +40,8 @@ struct Receiver {
 };
 
 std::vector<Receiver> receivers(int count, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
+  Random rng(seed);
+  auto u = [](Random& r) { return 2 * r.next() - 1; };
   std::vector<Receiver> out;
   for (int t = 0; t < count; ++t) {
     Vec3 p(0.6 * u(rng), 0.4 * u(rng), 0.05 * u(rng));
@@ -125,7 +125,7 @@ void point_sweep(const char* regime, double z) {
 // degrees (the outer ring), interpolated between the samples.
 // seconds: the texture work; error: mean |B' - exact| / mean exact. Setting: numbers per
 // colour channel a vertex stores: sampled normals (rings x azimuths + 1), or 18 spherical
-// harmonics (bands 0-2 and 4, solver/map_basis.h), gathered and shot alike.
+// harmonics (bands 0-2 and 4, solver/radiosity/map_basis.h), gathered and shot alike.
 void perturbed_sweep() {
   constexpr double kRho = 0.5;
   const std::array<Vec3, 4> light = {Vec3(-0.2, -0.4, 1), Vec3(-0.2, 0.2, 1), Vec3(0.8, 0.2, 1),
@@ -154,8 +154,8 @@ void perturbed_sweep() {
   scene.solver.direct_light = DirectLight::Radiosity;
   Mesh mesh = build_mesh(scene);
 
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(0, 1);
+  Random rng(11);
+  auto u = [](Random& r) { return r.next(); };
   std::vector<Vec3> normals;
   for (int i = 0; i < 300; ++i) {
     double tilt = std::acos(1 - u(rng) * (1 - std::cos(std::numbers::pi / 4)));
@@ -235,7 +235,7 @@ void perturbed_sweep() {
 }
 
 // Parts "cornell" and "wrinkled-box": images at 128 x 128 against the path-traced ground
-// truth (solver/path_tracer.cpp, 16,384 paths a pixel, seed 1), in relative RMS over the lit
+// truth (solver/render/path_tracer.cpp, 16,384 paths a pixel, seed 1), in relative RMS over the lit
 // surfaces with the reference's own noise taken out (bench/truth_metrics.h). Rows:
 //  - path_tracer: the path tracer itself (seed 2) at 1 to 4,096 paths a pixel, its error
 //    estimated the same way (the 4,096-path row, which measures the noise, is 2 sigma); setting:

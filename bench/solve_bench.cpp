@@ -14,10 +14,10 @@
 
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
-#include "solver/mesh.h"
-#include "solver/progressive.h"
-#include "solver/ray_scene.h"
-#include "solver/vertex_radiosity.h"
+#include "solver/radiosity/progressive.h"
+#include "solver/radiosity/vertex_radiosity.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
 
 namespace {
 

@@ -18,12 +18,12 @@
 #include "bench/truth_metrics.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
-#include "solver/camera.h"
-#include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/path_tracer.h"
-#include "solver/ray_scene.h"
+#include "solver/render/path_tracer.h"
+#include "solver/scene/camera.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
 #include "solver/solution.h"
+#include "solver/util/image.h"
 
 int main(int argc, char** argv) {
   using namespace bumprad;

@@ -4,11 +4,11 @@
 
 #include <vector>
 
-#include "solver/error_estimate.h"
-#include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/ray_scene.h"
-#include "solver/scene.h"
+#include "solver/render/error_estimate.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
+#include "solver/scene/scene.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 

@@ -10,10 +10,10 @@
 #include "cli/usage_error.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
-#include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/path_tracer.h"
-#include "solver/ray_scene.h"
+#include "solver/render/path_tracer.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {

@@ -1,5 +1,5 @@
 // `bumprad reference SCENE -o REF.exr --spp N [--seed S] [--bump B.json]`: the scene's
-// ground truth by path tracing (solver/path_tracer.h), to measure bumprad's images against.
+// ground truth by path tracing (solver/render/path_tracer.h), to measure bumprad's images against.
 #pragma once
 
 #include <span>

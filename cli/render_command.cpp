@@ -16,8 +16,8 @@
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
 #include "protocol/solution_json.h"
-#include "solver/image.h"
 #include "solver/solution.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {

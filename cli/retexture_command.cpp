@@ -7,8 +7,8 @@
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
-#include "solver/image.h"
 #include "solver/solution.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {

@@ -1,5 +1,5 @@
 // The image formats bumprad writes and serves, by name, extension and MIME type. Encoding
-// itself needs the solver's Image and OpenImageIO (solver/image.h); this is what a client
+// itself needs the solver's Image and OpenImageIO (solver/util/image.h); this is what a client
 // that only saves the server's bytes needs to know.
 #pragma once
 

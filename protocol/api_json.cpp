@@ -8,7 +8,7 @@
 
 #include "protocol/builtin_scenes.h"
 #include "protocol/json_node.h"
-#include "solver/camera.h"
+#include "solver/scene/camera.h"
 
 namespace bumprad {
 namespace {

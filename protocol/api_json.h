@@ -10,7 +10,7 @@
 
 #include "protocol/job_json.h"
 #include "protocol/scene_json.h"
-#include "solver/scene.h"
+#include "solver/scene/scene.h"
 
 namespace bumprad {
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "protocol/json_parse.h"
-#include "solver/scene.h"  // Vec3, Rgb and Limits, header-only
+#include "solver/scene/scene.h"  // Vec3, Rgb and Limits, header-only
 
 namespace bumprad {
 

@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "protocol/json_node.h"
-#include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/texture.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/texture.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {

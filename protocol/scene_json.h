@@ -10,7 +10,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "protocol/json_parse.h"
-#include "solver/scene.h"
+#include "solver/scene/scene.h"
 
 namespace bumprad {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "solver/scene.h"
+#include "solver/scene/scene.h"
 
 namespace bumprad {
 

@@ -9,7 +9,7 @@
 
 #include "common/atomic_file.h"
 #include "protocol/scene_json.h"
-#include "solver/vertex_radiosity.h"
+#include "solver/radiosity/vertex_radiosity.h"
 
 namespace bumprad {
 namespace {

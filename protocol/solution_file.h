@@ -9,7 +9,7 @@
 #include <string_view>
 
 #include "protocol/scene_json.h"
-#include "solver/scene.h"
+#include "solver/scene/scene.h"
 #include "solver/solution.h"
 
 namespace bumprad {

@@ -5,8 +5,8 @@
 #include <span>
 #include <string>
 
-#include "solver/mesh.h"
-#include "solver/progressive.h"
+#include "solver/radiosity/progressive.h"
+#include "solver/scene/mesh.h"
 
 namespace bumprad {
 

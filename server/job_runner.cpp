@@ -5,9 +5,9 @@
 
 #include "common/stopwatch.h"
 #include "protocol/solution_file.h"
-#include "solver/camera.h"
-#include "solver/image.h"
+#include "solver/scene/camera.h"
 #include "solver/solution.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {

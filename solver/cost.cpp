@@ -4,9 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "solver/camera.h"
-#include "solver/map_basis.h"
-#include "solver/mesh.h"
+#include "solver/radiosity/map_basis.h"
+#include "solver/scene/camera.h"
+#include "solver/scene/mesh.h"
 
 namespace bumprad {
 namespace {

@@ -1,11 +1,13 @@
 #include "solver/solution.h"
 
+#include <optional>
+
 #include "common/stopwatch.h"
-#include "solver/error_estimate.h"
-#include "solver/lights.h"
-#include "solver/subdivision.h"
-#include "solver/vertex_radiosity.h"
-#include "solver/view_pass.h"
+#include "solver/radiosity/vertex_radiosity.h"
+#include "solver/render/error_estimate.h"
+#include "solver/render/lights.h"
+#include "solver/render/view_pass.h"
+#include "solver/scene/subdivision.h"
 
 namespace bumprad {
 namespace {
@@ -50,9 +52,12 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   // more a round); what no shot can lower (the mesh, the hemi-cube) stays, and is reported.
   // In gather mode the map comes after the solve, so these rounds see the bumps flat.
   double estimate_s = 0;
+  std::optional<ErrorEstimator> estimator;
   const auto estimate = [&] {
-    const ErrorEstimate e = estimate_error(scene, out);
-    estimate_s += e.seconds;
+    auto t = Clock::now();
+    if (!estimator) estimator.emplace(scene, mesh, *out.rays);
+    const ErrorEstimate e = estimator->estimate(render(estimator->view(), out));
+    estimate_s += seconds_since(t);
     out.stats.estimated_error = e.relative_rms;
     out.stats.estimated_error_se = e.standard_error;
     return e.relative_rms;

@@ -8,12 +8,12 @@
 #include <stop_token>
 #include <vector>
 
-#include "solver/image.h"
-#include "solver/mesh.h"
-#include "solver/near_field.h"
-#include "solver/perturbed_map.h"
-#include "solver/progressive.h"
-#include "solver/ray_scene.h"
+#include "solver/radiosity/near_field.h"
+#include "solver/radiosity/perturbed_map.h"
+#include "solver/radiosity/progressive.h"
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 

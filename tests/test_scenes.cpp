@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "solver/phong_lobe.h"
+#include "solver/scene/phong_lobe.h"
 
 namespace bumprad::test {
 

@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "solver/image.h"
-#include "solver/scene.h"
+#include "solver/scene/scene.h"
+#include "solver/util/image.h"
 
 namespace bumprad::test {
 

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "solver/image.h"
+#include "solver/util/image.h"
 #include "tests/test_command.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "solver/image.h"
+#include "solver/util/image.h"
 #include "tests/test_command.h"
 #include "tests/test_files.h"
 
@@ -66,7 +66,8 @@ TEST_F(RenderCli, RendersTheCornellBoxAndExportsTheSolution) {
 }
 
 // A tolerance the solve cannot reach within its shots: it stops there and prints what it
-// estimates (solver/error_estimate.cpp; tests/solver/ground_truth_test.cpp checks the value).
+// estimates (solver/render/error_estimate.cpp; tests/solver/ground_truth_test.cpp checks the
+// value).
 TEST_F(RenderCli, AToleranceReportsTheEstimatedError) {
   Process r = run("render builtin:cornell --shots 30 --tolerance 0.001 -o " + path("t.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;

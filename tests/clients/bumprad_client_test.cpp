@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "solver/image.h"
+#include "solver/util/image.h"
 #include "tests/test_command.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"

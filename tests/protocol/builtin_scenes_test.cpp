@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "protocol/scene_json.h"
-#include "solver/mesh.h"
+#include "solver/scene/mesh.h"
 
 namespace bumprad {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <sys/stat.h>
 
-#include "solver/image.h"
+#include "solver/util/image.h"
 #include "tests/test_files.h"
 
 #include <filesystem>

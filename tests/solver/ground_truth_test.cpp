@@ -1,4 +1,4 @@
-// bumprad's images against the path tracer (solver/path_tracer.cpp) on a small room of its
+// bumprad's images against the path tracer (solver/render/path_tracer.cpp) on a small room of its
 // own: a ceiling light, a turned block on the floor, a camera that sees the block, its
 // shadow and the walls but not the light. Errors are relative RMS over 4 x 4 pixel blocks
 // (the lighting varies over many pixels; the blocks average the reference's noise down).
@@ -11,8 +11,8 @@
 
 #include <gtest/gtest.h>
 
-#include "solver/error_estimate.h"
-#include "solver/path_tracer.h"
+#include "solver/render/error_estimate.h"
+#include "solver/render/path_tracer.h"
 #include "solver/solution.h"
 
 namespace bumprad {
@@ -120,7 +120,7 @@ double pixel_error(const Image& a, const Image& r, const Image& s) {
   return std::sqrt(std::max(0.0, diff - noise) / norm);
 }
 
-// The error a job reports (solver/error_estimate.cpp: 1,024 of the view's pixels traced
+// The error a job reports (solver/render/error_estimate.cpp: 1,024 of the view's pixels traced
 // with 1,024 paths each, their noise taken out) against the error measured on the whole
 // reference image, for a good solution and a poor one (stopped at 40 % unshot). Measured:
 // truth 1.95 % / 2.95 %, estimated 2.52 +- 0.24 % / 3.32 +- 0.23 % (with 256 paths 2.09 +-
@@ -135,7 +135,8 @@ TEST_F(GroundTruth, TheEstimatedErrorIsTheErrorAgainstTheReference) {
     scene.camera.antialias = 4;  // as the estimate renders its view
     const Solution solution = solve(scene);
     const double truth = pixel_error(render(scene, solution), *reference_, *second_);
-    const ErrorEstimate e = estimate_error(scene, solution, {1024, 1024, 48, 7});
+    const ErrorEstimator estimator(scene, *solution.mesh, *solution.rays, {1024, 1024, 48, 7});
+    const ErrorEstimate e = estimator.estimate(render(estimator.view(), solution));
     std::printf("unshot %g: truth %.4f, estimate %.4f +- %.4f (%d pixels, %.2f s)\n", unshot, truth,
                 e.relative_rms, e.standard_error, e.pixels, e.seconds);
     EXPECT_NEAR(e.relative_rms, truth, std::max(3 * e.standard_error, truth / 3)) << unshot;

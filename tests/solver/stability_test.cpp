@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "solver/form_factor_exact.h"
-#include "solver/progressive.h"
-#include "solver/ray_scene.h"
+#include "solver/radiosity/form_factor_exact.h"
+#include "solver/radiosity/progressive.h"
+#include "solver/scene/ray_scene.h"
 #include "solver/solution.h"
 #include "tests/test_scenes.h"
 

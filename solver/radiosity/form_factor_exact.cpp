@@ -1,0 +1,97 @@
+#include "solver/radiosity/form_factor_exact.h"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+namespace bumprad {
+namespace {
+
+// atan(x) for x >= 0 (Moshier's Cephes: reduced to |x| <= 0.66 by atan(x) = pi/4 +
+// atan((x - 1)/(x + 1)) or pi/2 - atan(1/x), then x + x^3 P(x^2)/Q(x^2)).
+double atan_nonnegative(double x) {
+  static constexpr std::array<double, 5> kP = {
+      -8.750608600031904122785e-1, -1.615753718733365076637e1, -7.500855792314704667340e1,
+      -1.228866684490136173410e2, -6.485021904942025371773e1};
+  static constexpr std::array<double, 5> kQ = {2.485846490142306297962e1, 1.650270098316988542046e2,
+                                               4.328810604912902668951e2, 4.853903996359136964868e2,
+                                               1.945506571482613964425e2};
+  constexpr double kMoreBits = 6.123233995736765886130e-17;  // pi/2 less its double
+  double base = 0, extra = 0;
+  if (x > 2.41421356237309504880) {  // tan(3 pi / 8)
+    base = std::numbers::pi / 2;
+    extra = kMoreBits;
+    x = -1 / x;
+  } else if (x > 0.66) {
+    base = std::numbers::pi / 4;
+    extra = 0.5 * kMoreBits;
+    x = (x - 1) / (x + 1);
+  }
+  const double z = x * x;
+  const double p = (((kP[0] * z + kP[1]) * z + kP[2]) * z + kP[3]) * z + kP[4];
+  const double q = ((((z + kQ[0]) * z + kQ[1]) * z + kQ[2]) * z + kQ[3]) * z + kQ[4];
+  return base + (x * z * p / q + x + extra);
+}
+
+}  // namespace
+
+double angle(double y, double x) {
+  if (x > 0) return atan_nonnegative(y / x);
+  if (x < 0) return std::numbers::pi - atan_nonnegative(y / -x);
+  return y > 0 ? std::numbers::pi / 2 : 0;
+}
+
+double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
+  // Sutherland-Hodgman against the plane normal . (x - point) >= 0; at most two vertices
+  // per edge come out. Small polygons clip on the stack: the view pass calls this per pixel.
+  std::array<Vec3, 16> stack;
+  std::vector<Vec3> heap;
+  std::span<Vec3> out(stack);
+  const std::size_t n = polygon.size();
+  if (2 * n > stack.size()) {
+    heap.resize(2 * n);
+    out = heap;
+  }
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 a = polygon[i] - point, b = polygon[(i + 1) % n] - point;
+    double da = glm::dot(normal, a), db = glm::dot(normal, b);
+    if (da >= 0) out[count++] = a;
+    if ((da >= 0) != (db >= 0)) out[count++] = a + (b - a) * (da / (da - db));
+  }
+  std::span<const Vec3> clipped = out.first(count);
+  double sum = 0;
+  for (std::size_t i = 0; i < clipped.size(); ++i) {
+    const Vec3& a = clipped[i];
+    const Vec3& b = clipped[(i + 1) % clipped.size()];
+    Vec3 c = glm::cross(a, b);
+    double len = glm::length(c);
+    if (len <= 0) continue;
+    double gamma = angle(len, glm::dot(a, b));
+    sum += gamma * glm::dot(normal, c) / len;
+  }
+  return std::abs(sum) / (2 * std::numbers::pi);
+}
+
+double parallel_rectangles(double a, double b, double c) {
+  double x = a / c, y = b / c;
+  double x1 = std::sqrt(1 + x * x), y1 = std::sqrt(1 + y * y);
+  double f = std::log(x1 * x1 * y1 * y1 / (1 + x * x + y * y)) / 2 + x * y1 * std::atan(x / y1) +
+             y * x1 * std::atan(y / x1) - x * std::atan(x) - y * std::atan(y);
+  return 2 * f / (std::numbers::pi * x * y);
+}
+
+double perpendicular_rectangles(double l, double w, double h) {
+  double W = w / l, H = h / l;
+  double w2 = W * W, h2 = H * H, s = std::sqrt(w2 + h2);
+  double log_term = std::log((1 + w2) * (1 + h2) / (1 + w2 + h2)) +
+                    w2 * std::log(w2 * (1 + w2 + h2) / ((1 + w2) * (w2 + h2))) +
+                    h2 * std::log(h2 * (1 + h2 + w2) / ((1 + h2) * (h2 + w2)));
+  double f = W * std::atan(1 / W) + H * std::atan(1 / H) - s * std::atan(1 / s) + log_term / 4;
+  return f / (std::numbers::pi * W);
+}
+
+}  // namespace bumprad

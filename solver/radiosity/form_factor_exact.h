@@ -1,0 +1,29 @@
+// Closed-form form factors: the exact references the hemi-cube is tested against, and the
+// analytic values a solver can fall back on where the hemi-cube fails (near field).
+#pragma once
+
+#include <span>
+
+#include "solver/scene/scene.h"
+
+namespace bumprad {
+
+// Differential area at `point` with unit `normal` to a planar polygon (Lambert's contour
+// integral), after clipping the polygon to the half-space the normal faces. Any receiver
+// normal is allowed, so this is also the exact perturbed form factor at any tilt.
+double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon);
+
+// atan2(y, x) for y >= 0 (the angle between two vectors from |a x b| and a . b), within
+// 1e-15: Cephes' rational approximation of atan. Lambert's formula takes one per edge, and
+// glibc's atan2, which switches the rounding mode on every call, was a fifth of the view
+// pass's time.
+double angle(double y, double x);
+
+// Area to area: two coaxial parallel a x b rectangles a distance c apart (Howell C-11).
+double parallel_rectangles(double a, double b, double c);
+
+// Area to area: from a rectangle of width w to a perpendicular one of height h, sharing an
+// edge of length l (Howell C-14).
+double perpendicular_rectangles(double l, double w, double h);
+
+}  // namespace bumprad

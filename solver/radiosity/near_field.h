@@ -1,0 +1,67 @@
+// Indirect light near creases and contacts. Interpolating vertex radiosity assumes the light
+// a surface receives changes linearly across an element; where another surface meets it (a
+// ceiling along a wall, a floor beside a box) it does not: that surface fills a solid angle
+// that grows quickly as a point nears it, and the crease comes out too bright. Per vertex,
+// the elements of other surfaces within one and a half element sizes (its near set) are taken out
+// of the interpolation and put back exactly at each shaded point: point-to-polygon form factors
+// (Lambert) times their radiosity, in place of the rest of the scene's light in the solid
+// angle they cover.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
+
+namespace bumprad {
+
+// The near sets and their form factors averaged over each vertex's elements: geometry
+// only, built once per mesh.
+class NearField {
+ public:
+  // `open` (per element, open_share(); empty: all open) weighs elements into vertices as
+  // vertex_radiosity() does.
+  NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open);
+
+  struct Term {
+    std::uint32_t element;    // of another surface, facing the vertex's elements
+    double mean_form_factor;  // from the vertex's elements, averaged as its value is
+  };
+  std::span<const Term> terms(std::uint32_t vertex) const {
+    return {terms_.data() + first_[vertex], terms_.data() + first_[vertex + 1]};
+  }
+  // The sum of a vertex's mean form factors: the share of its view the near set fills.
+  double covered(std::uint32_t vertex) const { return covered_[vertex]; }
+  const Mesh& mesh() const { return mesh_; }
+
+ private:
+  const Mesh& mesh_;
+  std::vector<std::uint32_t> first_;  // per vertex, into terms_; one past the end last
+  std::vector<Term> terms_;
+  std::vector<double> covered_;
+};
+
+// A NearField lit by one solution: what the view pass adds to the interpolated indirect
+// light at a point.
+class NearFieldShading {
+ public:
+  // `reflected`: each element's reflected radiosity, B - E.
+  NearFieldShading(const NearField& near, std::span<const Rgb> reflected);
+
+  // The change to the interpolated reflected radiosity at `point` (smooth normal `normal`)
+  // of `element`, whose corners weigh `weights` and hold `vertex_values` (what the view pass
+  // interpolates) and whose mean diffuse reflectance is `reflectance`.
+  Rgb correction(const Element& element, const std::array<double, 4>& weights, const Vec3& point,
+                 const Vec3& normal, const Rgb& reflectance,
+                 std::span<const Rgb> vertex_values) const;
+
+ private:
+  const NearField& near_;
+  std::span<const Rgb> reflected_;
+  std::vector<Rgb> near_light_;  // per vertex: sum of B_j times its mean form factor
+};
+
+}  // namespace bumprad

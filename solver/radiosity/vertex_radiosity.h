@@ -1,0 +1,31 @@
+// Smooth shading of a radiosity solution: vertex values as the area-weighted mean of the
+// adjacent elements (which share vertices only within a smooth surface), counting only the
+// part of each element open to the scene, interpolated bilinearly inside quads and
+// barycentrically inside triangles.
+#pragma once
+
+#include <array>
+#include <span>
+#include <vector>
+
+#include "solver/scene/mesh.h"
+#include "solver/scene/ray_scene.h"
+
+namespace bumprad {
+
+// `open` (per element, from open_share; empty: all open) weights each element's area; the
+// radiosity is then that of each element's open part.
+std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element_radiosity,
+                                  std::span<const double> open = {});
+
+// The share of each element's area open to the scene rather than buried under or inside
+// other geometry (a floor under a block, a ceiling behind a lamp mounted on it). Buried
+// parts get no light; averaged into a vertex they would darken the open elements beside
+// them (at the Cornell box's block bases, 6 % too dark). Four points per element; a point
+// is buried when rays along its normal and tilted 60 degrees four ways all meet back faces
+// (the inside of a closed object) first.
+std::vector<double> open_share(const Mesh& mesh, const RayScene& rays);
+
+Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
+
+}  // namespace bumprad

@@ -1,0 +1,122 @@
+#include "solver/render/error_estimate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+
+#include "common/stopwatch.h"
+#include "solver/scene/camera.h"
+#include "solver/scene/geometry.h"
+#include "solver/util/parallel.h"
+#include "solver/util/random.h"
+
+namespace bumprad {
+namespace {
+
+bool emits(const Rgb& e) {
+  return e.r + e.g + e.b > 0;
+}
+
+// Whether the ray meets an emitter, straight or through perfect mirrors (an emitter's image
+// in a mirror is as bright and as small as the emitter).
+bool sees_emitter(const Scene& scene, const Mesh& mesh, const RayScene& rays, Ray ray) {
+  for (int bounce = 0; bounce < 4; ++bounce) {
+    const auto hit = rays.intersect(ray);
+    if (!hit || !hit->front) return false;
+    const Element& e = mesh.elements[hit->element];
+    const Material& m = scene.materials[std::size_t(e.material)];
+    if (emits(m.emission)) return true;
+    if (m.specular <= 0 || m.shininess > 0) return false;
+    const Vec3 point = ray.origin + hit->t * ray.direction;
+    ray = {point + e.normal * ray_epsilon(mesh), glm::reflect(ray.direction, e.normal)};
+  }
+  return false;
+}
+
+}  // namespace
+
+std::vector<bool> emitter_pixels(const Scene& scene, const Mesh& mesh, const RayScene& rays) {
+  const Camera& c = scene.camera;
+  const PinholeCamera pinhole(c);
+  // Bytes, not std::vector<bool>: rows are written from several threads.
+  std::vector<char> light(std::size_t(c.width) * std::size_t(c.height), 0);
+  parallel_for(c.height, [&](int y) {
+    for (int x = 0; x < c.width; ++x)
+      // 8 x 8 rays a pixel: a light seen edge-on covers slivers of pixels.
+      for (int k = 0; k < 64; ++k)
+        if (sees_emitter(scene, mesh, rays,
+                         pinhole.ray(x + (k % 8 + 0.5) / 8, y + (k / 8 + 0.5) / 8))) {
+          light[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = 1;
+          break;
+        }
+  });
+  std::vector<bool> near(light.begin(), light.end());
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int sx = x + dx, sy = y + dy;
+          if (sx >= 0 && sy >= 0 && sx < c.width && sy < c.height &&
+              light[std::size_t(sy) * std::size_t(c.width) + std::size_t(sx)])
+            near[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] = true;
+        }
+  return near;
+}
+
+ErrorEstimator::ErrorEstimator(const Scene& scene, const Mesh& mesh, const RayScene& rays,
+                               const ErrorEstimateSettings& settings)
+    : view_(scene) {
+  auto t0 = Clock::now();
+  Camera& c = view_.camera;
+  const double scale =
+      std::min({1.0, double(settings.max_height) / c.height, 2.0 * settings.max_height / c.width});
+  c.width = std::max(1, int(std::lround(c.width * scale)));
+  c.height = std::max(1, int(std::lround(c.height * scale)));
+  c.antialias = 4;
+  const std::vector<bool> emitter = emitter_pixels(view_, mesh, rays);
+
+  std::vector<PixelIndex> lit;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      if (!emitter[std::size_t(y) * std::size_t(c.width) + std::size_t(x)]) lit.push_back({x, y});
+  Random random(hash64(settings.seed));
+  shuffle(std::span(lit), random);
+  lit.resize(std::min(lit.size(), std::size_t(std::max(1, settings.pixels))));
+  traced_ = trace_pixels(view_, mesh, rays, lit, {settings.paths, settings.seed + 1});
+  trace_seconds_ = seconds_since(t0);
+}
+
+ErrorEstimate ErrorEstimator::estimate(const Image& image) const {
+  auto t0 = Clock::now();
+  // E|a - r'|^2 = |a - r|^2 + var(r') and E|r'|^2 = |r|^2 + var(r') for the traced r'.
+  constexpr int kGroups = 8;
+  double diff[kGroups] = {}, norm[kGroups] = {}, noise[kGroups] = {};
+  for (std::size_t i = 0; i < traced_.size(); ++i) {
+    const TracedPixel& t = traced_[i];
+    const Rgb a = image.at(t.pixel.x, t.pixel.y);
+    const Rgb d = a - t.radiance;
+    diff[i % kGroups] += glm::dot(d, d);
+    norm[i % kGroups] += glm::dot(t.radiance, t.radiance);
+    noise[i % kGroups] += t.variance;
+  }
+  auto relative = [](double d, double n, double v) {
+    return std::sqrt(std::max(0.0, d - v) / std::max(1e-300, n - v));
+  };
+  ErrorEstimate e;
+  e.pixels = int(traced_.size());
+  e.relative_rms = relative(std::accumulate(diff, diff + kGroups, 0.0),
+                            std::accumulate(norm, norm + kGroups, 0.0),
+                            std::accumulate(noise, noise + kGroups, 0.0));
+  double spread = 0;
+  for (int g = 0; g < kGroups; ++g) {
+    const double r = relative(diff[g], norm[g], noise[g]) - e.relative_rms;
+    spread += r * r;
+  }
+  e.standard_error = std::sqrt(spread / (kGroups - 1)) / std::sqrt(double(kGroups));
+  e.seconds = trace_seconds_ + seconds_since(t0);
+  return e;
+}
+
+}  // namespace bumprad

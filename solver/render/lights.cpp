@@ -1,0 +1,359 @@
+#include "solver/render/lights.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include <glm/geometric.hpp>
+
+#include "solver/radiosity/form_factor_exact.h"
+#include "solver/scene/geometry.h"
+
+namespace bumprad {
+namespace {
+
+// direct() takes an emitter group whole from this many times its radius away, element by
+// element nearer.
+constexpr double kGroupReach = 8;
+
+// Veach's power heuristic: the weight of a sample drawn with density `a` where another
+// strategy would have drawn it with density `b`.
+double power_heuristic(double a, double b) {
+  return a * a / (a * a + b * b);
+}
+
+}  // namespace
+
+std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials) {
+  std::vector<bool> mirror(mesh.surface_count, true);
+  std::vector<std::vector<std::uint32_t>> elements(mesh.surface_count);
+  for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    const Material& m = materials[std::size_t(e.material)];
+    mirror[e.surface] = mirror[e.surface] && m.specular > 0 && m.shininess == 0;
+    elements[e.surface].push_back(i);
+  }
+  for (std::uint32_t s = 0; s < mesh.surface_count; ++s)
+    mirror[s] = mirror[s] && !elements[s].empty() && coplanar(mesh, elements[s], kOnePlane);
+  return mirror;
+}
+
+Lights::Lights(const Mesh& mesh, std::span<const Material> materials)
+    : mesh_(mesh), epsilon_(ray_epsilon(mesh)) {
+  const std::vector<bool> mirror = planar_mirrors(mesh, materials);
+  std::vector<bool> listed(mesh.surface_count, false);
+  for (const Element& e : mesh.elements)
+    if (mirror[e.surface] && !listed[e.surface]) {
+      listed[e.surface] = true;
+      mirrors_.push_back(
+          {e.surface, e.centroid, e.normal, materials[std::size_t(e.material)].specular});
+    }
+  double total = 0;
+  for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    const Rgb& emission = materials[std::size_t(e.material)].emission;
+    const double weight = emission.r + emission.g + emission.b;
+    if (!(weight * e.area > 0)) continue;
+    total += weight * e.area;
+    emitters_.push_back({i, emission, weight});
+    cumulative_.push_back(total);
+  }
+  for (double& c : cumulative_) c /= total;
+  total_power_ = total;
+  group_emitters();
+}
+
+void Lights::group_emitters() {
+  std::map<std::pair<std::uint32_t, int>, std::vector<std::uint32_t>> by_patch;
+  for (const Emitter& em : emitters_) {
+    const Element& e = mesh_.elements[em.element];
+    by_patch[{e.patch, e.material}].push_back(em.element);
+  }
+  for (auto& [key, elements] : by_patch) {
+    const Element& first = mesh_.elements[elements.front()];
+    const Emitter& em =
+        *std::lower_bound(emitters_.begin(), emitters_.end(), elements.front(),
+                          [](const Emitter& a, std::uint32_t i) { return a.element < i; });
+    auto add = [&](std::vector<std::uint32_t> members, std::vector<Vec3> outline) {
+      Group g{std::move(outline),
+              std::move(members),
+              {},
+              em.emission,
+              em.weight,
+              first.centroid,
+              first.normal,
+              Vec3(0),
+              0};
+      double area = 0;
+      for (std::uint32_t i : g.elements) {
+        g.cumulative.push_back(area += mesh_.elements[i].area);
+        g.centre += mesh_.elements[i].area * mesh_.elements[i].centroid;
+      }
+      g.centre /= area;
+      for (double& c : g.cumulative) c /= area;
+      for (const Vec3& c : g.outline) g.radius = std::max(g.radius, glm::length(c - g.centre));
+      groups_.push_back(std::move(g));
+    };
+    std::vector<Vec3> outline = planar_outline(elements);
+    if (!outline.empty()) {
+      add(elements, std::move(outline));
+      continue;
+    }
+    for (std::uint32_t i : elements) {  // curved, or not one simple region: one by one
+      const Element& e = mesh_.elements[i];
+      std::array<Vec3, 4> storage;
+      const std::span<const Vec3> corners = element_corners(mesh_, e, storage);
+      add({i}, std::vector<Vec3>(corners.begin(), corners.end()));
+    }
+  }
+}
+
+std::vector<Vec3> Lights::planar_outline(std::span<const std::uint32_t> elements) const {
+  if (!coplanar(mesh_, elements, kOnePlane)) return {};
+  // The elements turn the same way: an edge inside the region appears once each way, an
+  // edge of its outline once. Outline edges chain into one loop, or the region is not simple.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
+  for (std::uint32_t i : elements) {
+    const Element& e = mesh_.elements[i];
+    for (int k = 0; k < e.vertex_count; ++k)
+      edges.insert({e.v[std::size_t(k)], e.v[std::size_t((k + 1) % e.vertex_count)]});
+  }
+  std::map<std::uint32_t, std::uint32_t> next;
+  for (const auto& [a, b] : edges)
+    if (!edges.contains({b, a}) && !next.emplace(a, b).second) return {};
+  if (next.empty()) return {};
+  std::vector<Vec3> loop;
+  std::uint32_t at = next.begin()->first;
+  for (std::size_t steps = 0; steps < next.size(); ++steps) {
+    loop.push_back(mesh_.vertices[at].position);
+    at = next.at(at);
+  }
+  if (at != next.begin()->first) return {};
+  // Corners only: points on a straight run of the outline add nothing.
+  std::vector<Vec3> corners;
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const Vec3& before = loop[(i + loop.size() - 1) % loop.size()];
+    const Vec3& after = loop[(i + 1) % loop.size()];
+    if (glm::length(glm::cross(loop[i] - before, after - loop[i])) >
+        1e-12 * glm::length(loop[i] - before) * glm::length(after - loop[i]))
+      corners.push_back(loop[i]);
+  }
+  return corners.size() >= 3 ? corners : std::vector<Vec3>{};
+}
+
+Vec3 Lights::point_on(const Element& e, Random& random) const {
+  auto corner = [&](int c) { return mesh_.vertices[e.v[std::size_t(c)]].position; };
+  // A quad is two triangles (planar and convex); each is picked by its area.
+  Vec3 a = corner(0), b = corner(1), c = corner(2);
+  if (e.vertex_count == 4) {
+    const double first =
+        0.5 * glm::length(glm::cross(corner(1) - corner(0), corner(2) - corner(0)));
+    if (random.next() * e.area >= first) b = corner(2), c = corner(3);
+  }
+  const double s = std::sqrt(random.next()), t = random.next();
+  return (1 - s) * a + s * (1 - t) * b + s * t * c;
+}
+
+Lights::Sample Lights::sample(Random& random) const {
+  const double pick = random.next();
+  const std::size_t i =
+      std::min(std::size_t(std::lower_bound(cumulative_.begin(), cumulative_.end(), pick) -
+                           cumulative_.begin()),
+               emitters_.size() - 1);
+  const Element& e = mesh_.elements[emitters_[i].element];
+  const double chosen = cumulative_[i] - (i > 0 ? cumulative_[i - 1] : 0);
+  return {emitters_[i].element, point_on(e, random), chosen / e.area, emitters_[i].emission};
+}
+
+bool Lights::visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+                             const RayScene& rays) const {
+  Vec3 d = to_image - from;
+  const double distance = glm::length(d);
+  d /= distance;
+  auto hit = rays.intersect({from, d});
+  if (!hit || !hit->front || mesh_.elements[hit->element].surface != mirror.surface) return false;
+  const Vec3 on_mirror = from + hit->t * d;
+  const Vec3 r = d - 2 * glm::dot(d, mirror.normal) * mirror.normal;
+  return !rays.occluded({on_mirror + mirror.normal * epsilon_, r},
+                        distance - hit->t - 2 * epsilon_);
+}
+
+Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
+                       Random& random) const {
+  if (emitters_.empty()) return Rgb(0);
+  // One emitter point for the emitter and every mirror's image of it: each term below is
+  // an unbiased estimate of its own integral, so their sum is one of the total.
+  const Sample light = sample(random);
+  const Element& le = mesh_.elements[light.element];
+  const Rgb& emission = light.emission;
+  auto term = [&](const Vec3& y, const Vec3& facing) {
+    Vec3 d = y - from;
+    const double distance2 = glm::dot(d, d);
+    d /= std::sqrt(distance2);
+    const double cos_here = glm::dot(normal, d), cos_there = -glm::dot(facing, d);
+    if (cos_here <= 0 || cos_there <= 0) return 0.0;
+    return cos_here * cos_there / (std::numbers::pi * distance2 * light.pdf_area);
+  };
+  Rgb sum(0);
+  if (const double g = term(light.point, le.normal); g > 0) {
+    const double distance = glm::length(light.point - from);
+    if (!rays.occluded({from, (light.point - from) / distance}, distance - 2 * epsilon_))
+      sum += emission * g;
+  }
+  for (const Mirror& m : mirrors_) {
+    if (glm::dot(from - m.point, m.normal) <= 0 || glm::dot(light.point - m.point, m.normal) <= 0)
+      continue;
+    const Vec3 image = m.reflect(light.point);
+    const Vec3 facing = m.turn(le.normal);
+    if (const double g = term(image, facing); g > 0 && visible_through(m, from, image, rays))
+      sum += emission * (m.specular * g);
+  }
+  return sum;
+}
+
+double Lights::pdf_solid_angle(std::uint32_t element, double distance, double cos_there) const {
+  auto it = std::lower_bound(emitters_.begin(), emitters_.end(), element,
+                             [](const Emitter& e, std::uint32_t i) { return e.element < i; });
+  if (it == emitters_.end() || it->element != element || cos_there <= 0) return 0;
+  return it->weight / total_power_ * distance * distance / cos_there;  // pdf_area r^2 / cos'
+}
+
+bool Lights::planar_mirror(std::uint32_t surface) const {
+  return std::any_of(mirrors_.begin(), mirrors_.end(),
+                     [&](const Mirror& m) { return m.surface == surface; });
+}
+
+Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                              const RayScene& rays, Random& random) const {
+  if (emitters_.empty()) return Rgb(0);
+  const Sample light = sample(random);
+  const Element& le = mesh_.elements[light.element];
+  // One term: the point y (or its image) seen along d at `distance`, facing `facing`.
+  auto term = [&](const Vec3& y, const Vec3& facing, const Mirror* mirror) {
+    Vec3 d = y - from;
+    const double distance = glm::length(d);
+    d /= distance;
+    if (glm::dot(d, geometric) <= 0) return 0.0;
+    const double lobe_pdf = lobe.pdf(d);
+    const double light_pdf = pdf_solid_angle(light.element, distance, -glm::dot(facing, d));
+    if (lobe_pdf <= 0 || light_pdf <= 0) return 0.0;
+    if (mirror ? !visible_through(*mirror, from, y, rays)
+               : rays.occluded({from, d}, distance - 2 * epsilon_))
+      return 0.0;
+    return (mirror ? mirror->specular : 1) * lobe_pdf * power_heuristic(light_pdf, lobe_pdf) /
+           light_pdf;
+  };
+  double sum = term(light.point, le.normal, nullptr);
+  for (const Mirror& m : mirrors_)
+    if (glm::dot(from - m.point, m.normal) > 0 && glm::dot(light.point - m.point, m.normal) > 0)
+      sum += term(m.reflect(light.point), m.turn(le.normal), &m);
+  return light.emission * sum;
+}
+
+double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
+                           double cos_there) const {
+  return power_heuristic(lobe_pdf, pdf_solid_angle(element, distance, cos_there));
+}
+
+Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
+                   int shadow_rays, Random& random) const {
+  // The emitters and their images that x sees in front of both planes, with their exact
+  // unoccluded F: a group whole, or near it (within kGroupReach of its radius) element by
+  // element, because shadow rays picked by area weigh a group's parts by area rather than by
+  // their form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
+  struct Seen {
+    std::span<const std::uint32_t> elements;
+    std::span<const double> cumulative;
+    const Group* group;
+    const Mirror* mirror;  // null: the emitter itself
+    double form_factor;
+    double share;  // k_s E F, channel sum: how many rays it gets
+  };
+  static constexpr double kWhole = 1;
+  thread_local std::vector<Seen> seen;
+  thread_local std::vector<Vec3> corners;
+  seen.clear();
+  double total = 0;
+  auto consider = [&](const Group& g, std::span<const std::uint32_t> elements,
+                      std::span<const double> cumulative, std::span<const Vec3> outline,
+                      const Mirror* mirror) {
+    Vec3 point = g.point, facing = g.normal;
+    corners.assign(outline.begin(), outline.end());
+    if (mirror) {
+      if (glm::dot(point - mirror->point, mirror->normal) <= 0) return;  // behind it
+      point = mirror->reflect(point);
+      facing = mirror->turn(facing);
+      for (Vec3& c : corners) c = mirror->reflect(c);
+    }
+    if (glm::dot(facing, x - point) <= 0) return;  // behind the emitter: one-sided
+    const double f = point_to_polygon(x, normal, corners);
+    if (!(f > 0)) return;
+    const double share = f * g.weight * (mirror ? mirror->specular : 1);
+    seen.push_back({elements, cumulative, &g, mirror, f, share});
+    total += share;
+  };
+  std::array<Vec3, 4> storage;
+  auto consider_group = [&](const Group& g, const Mirror* mirror) {
+    const Vec3 centre = mirror ? mirror->reflect(g.centre) : g.centre;
+    if (g.elements.size() == 1 || glm::length(x - centre) > kGroupReach * g.radius) {
+      consider(g, g.elements, g.cumulative, g.outline, mirror);
+      return;
+    }
+    for (std::size_t k = 0; k < g.elements.size(); ++k)
+      consider(g, {&g.elements[k], 1}, {&kWhole, 1},
+               element_corners(mesh_, mesh_.elements[g.elements[k]], storage), mirror);
+  };
+  for (const Group& g : groups_) consider_group(g, nullptr);
+  for (const Mirror& m : mirrors_)
+    if (glm::dot(x - m.point, m.normal) > 0)
+      for (const Group& g : groups_) consider_group(g, &m);
+  if (seen.empty()) return Rgb(0);
+
+  const Vec3 from = x + geometric * epsilon_;
+  auto visible = [&](const Seen& s) {
+    const std::size_t pick =
+        s.elements.size() == 1
+            ? 0
+            : std::min(std::size_t(std::lower_bound(s.cumulative.begin(), s.cumulative.end(),
+                                                    random.next()) -
+                                   s.cumulative.begin()),
+                       s.elements.size() - 1);
+    const Vec3 y = point_on(mesh_.elements[s.elements[pick]], random);
+    Vec3 d = (s.mirror ? s.mirror->reflect(y) : y) - from;
+    const double distance = glm::length(d);
+    d /= distance;
+    if (glm::dot(d, geometric) <= 0) return false;
+    if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
+    return visible_through(*s.mirror, from, from + d * distance, rays);
+  };
+  auto arriving = [&](const Seen& s) {
+    return s.group->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));
+  };
+  const int n = std::max(1, shadow_rays);
+  Rgb sum(0);
+  if (seen.size() <= std::size_t(n)) {
+    // Few: each gets its own rays, so one seen whole adds exactly (k_s) E F.
+    const int each = n / int(seen.size());
+    for (const Seen& s : seen) {
+      int hits = 0;
+      for (int r = 0; r < each; ++r) hits += visible(s);
+      sum += arriving(s) * (double(hits) / each);
+    }
+    return sum;
+  }
+  // Many: n rays stratified over them by contribution (systematic sampling); each ray that
+  // arrives adds its source's (k_s) E F divided by the chance it was chosen.
+  const double step = total / n;
+  double next = random.next() * step, reached = 0;
+  for (const Seen& s : seen) {
+    reached += s.share;
+    for (; next < reached; next += step)
+      if (visible(s)) sum += arriving(s) * (step / s.share);
+  }
+  return sum;
+}
+
+}  // namespace bumprad

@@ -1,0 +1,124 @@
+// The scene's light sources: its emitting elements. The path tracer picks one by power and
+// a point on it (next-event estimation); the view pass asks for the exact direct light at a
+// point: Lambert's closed form per emitter, times the share of it shadow rays find visible,
+// and the same for each emitter's virtual image in every planar mirror (Wallace, Cohen &
+// Greenberg 1987), so light reflected once by a flat mirror is as exact as direct light.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "solver/scene/mesh.h"
+#include "solver/scene/phong_lobe.h"
+#include "solver/scene/ray_scene.h"
+#include "solver/scene/scene.h"
+#include "solver/util/random.h"
+
+namespace bumprad {
+
+// Per mesh surface: is it a planar mirror (k_s > 0, shininess 0, all its elements in one
+// plane)? Light from an emitter's image in one is direct light.
+std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials);
+
+class Lights {
+ public:
+  Lights(const Mesh& mesh, std::span<const Material> materials);
+  bool empty() const { return emitters_.empty(); }
+
+  struct Sample {
+    std::uint32_t element;
+    Vec3 point;
+    double pdf_area;  // per unit area, over all lights
+    Rgb emission;
+  };
+  // An emitter chosen by its power (area times E's channel sum), a point on it uniformly.
+  Sample sample(Random& random) const;
+
+  // The direct irradiance at `x` from the emitters' own emission, in radiosity units
+  // (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's reflectance),
+  // plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact (Lambert, clipped
+  // to the plane of `normal`, which may be a perturbed N'); V, the visible share (through
+  // the mirror, for an image), comes from `shadow_rays` rays spread over the emitters and
+  // images by their contribution, so a point that sees them fully gets the exact value
+  // without noise. Rays leave along `geometric` (the element's own normal); light below it
+  // is hidden.
+  Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
+             int shadow_rays, Random& random) const;
+
+  // Next-event estimation for the path tracer, unbiased: a point y on an emitter chosen by
+  // power, E cos cos' / (pi r^2 pdf) if y is visible from `from`, plus the same through each
+  // planar mirror (k_s times, to y's image): radiosity units, before the receiver's
+  // reflectance. A path that leaves a diffuse surface and meets an emitter next, or after
+  // one planar mirror, must then not count that emitter's emission again.
+  Rgb next_event(const Vec3& from, const Vec3& normal, const RayScene& rays, Random& random) const;
+
+  // Glossy highlights, with multiple importance sampling (Veach 1997, power heuristic) of
+  // two strategies for the integral of E(d) lobe.pdf(d) over directions d (radiosity units,
+  // before k_s): one emitter point chosen by power, seen straight and in each planar mirror
+  // (this call: E lobe.pdf w / pdf per term, k_s times for an image, if visible from
+  // `from`), and the caller's lobe direction, whose emission counts lobe_weight() times
+  // when it meets an emitter straight or after one planar mirror. A small bright emitter in
+  // a wide lobe is then found by the first, a sharp lobe by the second, without the
+  // fireflies of either alone.
+  Rgb glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                        const RayScene& rays, Random& random) const;
+  // The weight of a lobe direction (drawn with density `lobe_pdf`) that met emitter element
+  // `element` after `distance` (through a planar mirror: the unfolded length), arriving at
+  // cosine `cos_there` to the emitter's normal.
+  double lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
+                     double cos_there) const;
+  bool planar_mirror(std::uint32_t surface) const;
+
+ private:
+  struct Emitter {
+    std::uint32_t element;
+    Rgb emission;
+    double weight;  // channel sum of E
+  };
+  // The emitter elements of one patch with one emission in one plane, for direct(): from afar
+  // Lambert's form factor to their outline is the sum of theirs (one polygon where a lamp of
+  // 2 x 2 elements took four), and a shadow ray picks one of them by area.
+  struct Group {
+    std::vector<Vec3> outline;
+    std::vector<std::uint32_t> elements;
+    std::vector<double> cumulative;  // by area, normalised
+    Rgb emission;
+    double weight;  // channel sum of E
+    Vec3 point, normal;
+    Vec3 centre;    // of area
+    double radius;  // the farthest outline corner from the centre
+  };
+  struct Mirror {
+    std::uint32_t surface;
+    Vec3 point, normal;
+    double specular;  // k_s
+    Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
+    // A direction's mirror image (an emitter's normal, seen in the mirror).
+    Vec3 turn(const Vec3& d) const { return d - 2 * glm::dot(d, normal) * normal; }
+  };
+  void group_emitters();
+  // The outline of coplanar elements that make one simple region (corners only), or empty.
+  std::vector<Vec3> planar_outline(std::span<const std::uint32_t> elements) const;
+  Vec3 point_on(const Element& e, Random& random) const;
+  // Density per solid angle of sample() choosing a point on emitter element `element`
+  // (0 for no emitter) seen at `distance` and cosine `cos_there` to its normal.
+  double pdf_solid_angle(std::uint32_t element, double distance, double cos_there) const;
+  // Whether the point `to_image` (an emitter point's image in `mirror`) is seen from `from`
+  // through the mirror: the mirror is the first thing on the way, and the reflected ray
+  // reaches the emitter point.
+  bool visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+                       const RayScene& rays) const;
+
+  const Mesh& mesh_;
+  std::vector<Emitter> emitters_;
+  std::vector<Group> groups_;
+  std::vector<Mirror> mirrors_;
+  std::vector<double> cumulative_;  // by power, normalised
+  double total_power_ = 0;          // sum of area times E's channel sum
+  double epsilon_;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,34 @@
+// A pinhole camera: image-plane positions to world-space rays.
+#pragma once
+
+#include "solver/scene/scene.h"
+
+namespace bumprad {
+
+struct Ray {
+  Vec3 origin, direction;  // direction is unit length
+};
+
+// The camera of previews and interactive drafts: one ray per pixel, at most two glossy
+// samples and one shadow ray. Full-quality previews of paper-room took 7 times as long as its
+// solve.
+Camera draft_camera(Camera camera);
+
+// The grid m of adaptive antialiasing: pixels whose n x n samples disagree are sampled again
+// on an m x m grid. camera.antialias_max, or 0 for 2n (at most Limits::kMaxAntialiasMax); at
+// most n (and with n = 1, which gives no disagreement to see) turns it off.
+int adaptive_antialias(const Camera& camera);
+
+class PinholeCamera {
+ public:
+  explicit PinholeCamera(const Camera& camera);
+  // (x, y) in pixels from the top-left corner of the image; (0.5, 0.5) is the first centre.
+  Ray ray(double x, double y) const;
+
+ private:
+  Vec3 position_, forward_, right_, up_;
+  double half_height_, half_width_;
+  int width_, height_;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,94 @@
+#include "solver/scene/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace bumprad {
+
+std::span<const Vec3> element_corners(const Mesh& mesh, const Element& e,
+                                      std::array<Vec3, 4>& storage) {
+  for (int k = 0; k < e.vertex_count; ++k)
+    storage[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
+  return {storage.data(), std::size_t(e.vertex_count)};
+}
+
+bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e) {
+  Vec3 sum_n(0), sum_c(0);
+  double sum_a = 0;
+  for (int t = 1; t + 1 < e.vertex_count; ++t) {
+    Vec3 a = vertices[e.v[0]].position, b = vertices[e.v[t]].position,
+         c = vertices[e.v[t + 1]].position;
+    Vec3 n = glm::cross(b - a, c - a);
+    double area = 0.5 * glm::length(n);
+    sum_n += n;
+    sum_c += area * (a + b + c) / 3.0;
+    sum_a += area;
+  }
+  double len = glm::length(sum_n);
+  if (!(sum_a > 0) || !(len > 0)) return false;
+  e.area = sum_a;
+  e.centroid = sum_c / sum_a;
+  e.normal = sum_n / len;
+  return true;
+}
+
+std::array<double, 4> corner_weights(const Element& e, double u, double v) {
+  if (e.vertex_count == 3) return {1 - u - v, u, v, 0};
+  return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};
+}
+
+std::array<Vec3, 4> quarter_points(const Mesh& mesh, const Element& e) {
+  // Sub-triangle centres: barycentric (2/3, 1/6, 1/6), its turns, and (1/3, 1/3, 1/3).
+  static constexpr std::array<glm::dvec2, 4> kQuad = {
+      {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
+  static constexpr std::array<glm::dvec2, 4> kTriangle = {
+      {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 3, 1.0 / 3}}};
+  std::array<Vec3, 4> out;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const glm::dvec2& uv = (e.vertex_count == 4 ? kQuad : kTriangle)[i];
+    std::array<double, 4> w = corner_weights(e, uv.x, uv.y);
+    out[i] = Vec3(0);
+    for (int k = 0; k < e.vertex_count; ++k)
+      out[i] += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+  }
+  return out;
+}
+
+SurfaceAt surface_at(const Mesh& mesh, const Element& e, double u, double v) {
+  SurfaceAt s{corner_weights(e, u, v), glm::dvec2(0), Vec3(0), Vec3(0), Vec3(0)};
+  for (int k = 0; k < e.vertex_count; ++k) {
+    const Vertex& vertex = mesh.vertices[e.v[std::size_t(k)]];
+    const double w = s.weights[std::size_t(k)];
+    s.uv += w * vertex.uv;
+    s.normal += w * vertex.normal;
+    s.dpdu += w * vertex.dpdu;
+    s.dpdv += w * vertex.dpdv;
+  }
+  s.normal = glm::normalize(s.normal);
+  return s;
+}
+
+double ray_epsilon(const Mesh& mesh) {
+  double extent = 0;
+  for (int k = 0; k < 3; ++k)
+    extent = std::max({extent, std::abs(mesh.bounds_min[k]), std::abs(mesh.bounds_max[k])});
+  return 4e-6 * extent;
+}
+
+bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatness tolerance) {
+  const Element& first = mesh.elements[elements.front()];
+  const double offset = tolerance.offset * std::max(1.0, mesh.diagonal());
+  for (std::uint32_t i : elements) {
+    const Element& e = mesh.elements[i];
+    if (glm::length(e.normal - first.normal) > tolerance.normal) return false;
+    for (int k = 0; k < e.vertex_count; ++k)
+      if (std::abs(glm::dot(mesh.vertices[e.v[std::size_t(k)]].position - first.centroid,
+                            first.normal)) > offset)
+        return false;
+  }
+  return true;
+}
+
+}  // namespace bumprad

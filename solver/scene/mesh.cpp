@@ -1,0 +1,448 @@
+#include "solver/scene/mesh.h"
+#include "solver/scene/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace bumprad {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Every shape but the triangle mesh is a set of parametric grids P(u,v) on [0,1]^2.
+struct Grid {
+  std::function<Vec3(double, double)> position;
+  int nu = 1, nv = 1;
+};
+
+std::array<Vec3, 8> box_corners(const BoxShape& box) {
+  glm::dmat4 r(1.0);
+  r = glm::rotate(r, glm::radians(box.rotation_deg.z), Vec3(0, 0, 1));
+  r = glm::rotate(r, glm::radians(box.rotation_deg.y), Vec3(0, 1, 0));
+  r = glm::rotate(r, glm::radians(box.rotation_deg.x), Vec3(1, 0, 0));
+  std::array<Vec3, 8> c;
+  for (int i = 0; i < 8; ++i) {
+    Vec3 local((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5);
+    c[i] = box.center + Vec3(r * glm::dvec4(local * box.size, 0.0));
+  }
+  return c;
+}
+
+// The six faces of a box as quads whose (p1-p0) x (p3-p0) points outward.
+std::array<QuadShape, 6> box_faces(const BoxShape& box) {
+  auto c = box_corners(box);
+  auto at = [&](int x, int y, int z) { return c[x | (y << 1) | (z << 2)]; };
+  return {{
+      {{at(1, 0, 0), at(1, 1, 0), at(1, 1, 1), at(1, 0, 1)}},
+      {{at(0, 0, 0), at(0, 0, 1), at(0, 1, 1), at(0, 1, 0)}},
+      {{at(0, 1, 0), at(0, 1, 1), at(1, 1, 1), at(1, 1, 0)}},
+      {{at(0, 0, 0), at(1, 0, 0), at(1, 0, 1), at(0, 0, 1)}},
+      {{at(0, 0, 1), at(1, 0, 1), at(1, 1, 1), at(0, 1, 1)}},
+      {{at(0, 0, 0), at(0, 1, 0), at(1, 1, 0), at(1, 0, 0)}},
+  }};
+}
+
+int count_for(double length, double element_size, int minimum) {
+  double n = std::ceil(length / element_size - 1e-9);
+  n = std::clamp(n, double(minimum), double(Limits::kMaxGridCount));
+  return int(n);
+}
+
+Grid quad_grid(const QuadShape& q, const MeshDensity& d, double size) {
+  const auto& p = q.corners;
+  Grid g;
+  g.position = [p](double u, double v) {
+    return (1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] + (1 - u) * v * p[3];
+  };
+  g.nu = d.counts[0]
+             ? d.counts[0]
+             : count_for(std::max(glm::length(p[1] - p[0]), glm::length(p[2] - p[3])), size, 1);
+  g.nv = d.counts[1]
+             ? d.counts[1]
+             : count_for(std::max(glm::length(p[3] - p[0]), glm::length(p[2] - p[1])), size, 1);
+  return g;
+}
+
+// An orthonormal pair perpendicular to the unit vector `a`, with (e1, e2, a) right-handed.
+void perpendicular_frame(const Vec3& a, Vec3& e1, Vec3& e2) {
+  Vec3 helper = std::abs(a.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  e1 = glm::normalize(glm::cross(helper, a));
+  e2 = glm::cross(a, e1);
+}
+
+std::vector<Grid> grids_for(const Object& object, double default_size) {
+  const MeshDensity& d = object.density;
+  double size = d.element_size > 0 ? d.element_size : default_size;
+  std::vector<Grid> out;
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, QuadShape>) {
+          out.push_back(quad_grid(s, d, size));
+        } else if constexpr (std::is_same_v<T, BoxShape>) {
+          for (const QuadShape& face : box_faces(s)) out.push_back(quad_grid(face, d, size));
+        } else if constexpr (std::is_same_v<T, SphereShape>) {
+          Grid g;
+          Vec3 c = s.center;
+          double r = s.radius;
+          // phi runs clockwise seen from +y so that dP/du x dP/dv points outward.
+          g.position = [c, r](double u, double v) {
+            double phi = -2 * kPi * u, theta = kPi * (1 - v);
+            return c + r * Vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                std::sin(theta) * std::sin(phi));
+          };
+          g.nu = d.counts[0] ? d.counts[0] : count_for(2 * kPi * r, size, 12);
+          g.nv = d.counts[1] ? d.counts[1] : count_for(kPi * r, size, 6);
+          out.push_back(g);
+        } else if constexpr (std::is_same_v<T, CylinderShape>) {
+          Vec3 axis = s.top - s.base;
+          double h = glm::length(axis);
+          Vec3 a = axis / h, e1, e2;
+          perpendicular_frame(a, e1, e2);
+          double r = s.radius;
+          int around = d.counts[0] ? d.counts[0] : count_for(2 * kPi * r, size, 12);
+          Grid side;
+          side.position = [=, b = s.base](double u, double v) {
+            double phi = 2 * kPi * u;
+            return b + v * axis + r * (std::cos(phi) * e1 + std::sin(phi) * e2);
+          };
+          side.nu = around;
+          side.nv = d.counts[1] ? d.counts[1] : count_for(h, size, 1);
+          out.push_back(side);
+          if (s.caps) {
+            int radial = count_for(r, size, 1);
+            Grid top, bottom;
+            top.position = [=, t = s.top](double u, double v) {
+              double phi = 2 * kPi * u;
+              return t + v * r * (std::cos(phi) * e1 - std::sin(phi) * e2);
+            };
+            bottom.position = [=, b = s.base](double u, double v) {
+              double phi = 2 * kPi * u;
+              return b + v * r * (std::cos(phi) * e1 + std::sin(phi) * e2);
+            };
+            top.nu = bottom.nu = around;
+            top.nv = bottom.nv = radial;
+            out.push_back(top);
+            out.push_back(bottom);
+          }
+        }
+      },
+      object.shape);
+  return out;
+}
+
+int triangle_subdivisions(const TriangleMeshShape& m, const std::array<std::uint32_t, 3>& t,
+                          const MeshDensity& d, double size) {
+  if (d.counts[0]) return d.counts[0];
+  double longest = 0;
+  for (int e = 0; e < 3; ++e)
+    longest = std::max(longest, glm::length(m.positions[t[(e + 1) % 3]] - m.positions[t[e]]));
+  return count_for(longest, size, 1);
+}
+
+}  // namespace
+
+namespace {
+
+// Builds elements and patches for one surface at a time, welding vertices that coincide
+// (sphere poles, cylinder seams, shared triangle-mesh edges) so that the surface is smooth.
+class SurfaceBuilder {
+ public:
+  SurfaceBuilder(Mesh& mesh, const Object& object, std::uint32_t object_index, double weld_tol)
+      : mesh_(mesh), object_(object), object_index_(object_index), weld_tol_(weld_tol) {}
+
+  void begin_surface() {
+    surface_ = mesh_.surface_count++;
+    first_vertex_ = std::uint32_t(mesh_.vertices.size());
+  }
+
+  std::uint32_t add_vertex(const Vec3& p, glm::dvec2 uv, const Vec3& dpdu, const Vec3& dpdv) {
+    mesh_.vertices.push_back({p, Vec3(0), uv, dpdu, dpdv});
+    return std::uint32_t(mesh_.vertices.size() - 1);
+  }
+
+  // Merges coincident vertices added since begin_surface() (sort-and-sweep along x).
+  void weld() {
+    std::uint32_t n = std::uint32_t(mesh_.vertices.size()) - first_vertex_;
+    remap_.resize(n);
+    std::vector<std::uint32_t> order(n);
+    for (std::uint32_t i = 0; i < n; ++i) order[i] = remap_[i] = first_vertex_ + i;
+    auto& vs = mesh_.vertices;
+    std::sort(order.begin(), order.end(),
+              [&](auto a, auto b) { return vs[a].position.x < vs[b].position.x; });
+    for (std::uint32_t i = 0; i < n; ++i) {
+      std::uint32_t a = order[i];
+      if (remap_[a - first_vertex_] != a) continue;
+      for (std::uint32_t j = i + 1; j < n; ++j) {
+        std::uint32_t b = order[j];
+        if (vs[b].position.x - vs[a].position.x > weld_tol_) break;
+        if (glm::length(vs[b].position - vs[a].position) <= weld_tol_ &&
+            remap_[b - first_vertex_] == b)
+          remap_[b - first_vertex_] = a;
+      }
+    }
+  }
+
+  std::uint32_t patch_for(std::uint64_t key) {
+    auto [it, inserted] = patch_keys_.try_emplace(key, std::uint32_t(pending_.size()));
+    if (inserted) pending_.emplace_back();
+    return it->second;
+  }
+
+  // Queues an element for patch `local_patch` of the current surface; corners are vertex
+  // ids from add_vertex (remapped by weld()). Degenerate corners collapse to a triangle or
+  // the element is dropped.
+  void add_element(std::uint32_t local_patch, std::array<std::uint32_t, 4> v, int n) {
+    std::array<std::uint32_t, 4> w{};
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      std::uint32_t id = remap_.empty() ? v[i] : remap_[v[i] - first_vertex_];
+      if (m > 0 && w[m - 1] == id) continue;
+      w[m++] = id;
+    }
+    if (m > 1 && w[m - 1] == w[0]) --m;
+    if (m < 3) return;
+    Element e;
+    e.v = w;
+    e.vertex_count = m;
+    e.surface = surface_;
+    e.object = object_index_;
+    e.material = object_.material;
+    if (object_.flip_normals) std::reverse(e.v.begin(), e.v.begin() + m);
+    if (!compute_element_geometry(mesh_.vertices, e)) return;
+    pending_[local_patch].push_back(e);
+  }
+
+  // Moves the queued elements into the mesh, patch by patch, so each patch is contiguous.
+  void end_surface() {
+    for (auto& elems : pending_) {
+      if (elems.empty()) continue;
+      Patch p;
+      p.first = std::uint32_t(mesh_.elements.size());
+      p.count = std::uint32_t(elems.size());
+      for (Element& e : elems) {
+        e.patch = std::uint32_t(mesh_.patches.size());
+        p.area += e.area;
+        p.centroid += e.area * e.centroid;
+        p.normal += e.area * e.normal;
+        mesh_.elements.push_back(e);
+      }
+      p.centroid /= p.area;
+      p.normal = glm::normalize(p.normal);
+      mesh_.patches.push_back(p);
+    }
+    pending_.clear();
+    patch_keys_.clear();
+    remap_.clear();
+  }
+
+ private:
+  Mesh& mesh_;
+  const Object& object_;
+  std::uint32_t object_index_;
+  double weld_tol_;
+  std::uint32_t surface_ = 0;
+  std::uint32_t first_vertex_ = 0;
+  std::vector<std::uint32_t> remap_;
+  std::map<std::uint64_t, std::uint32_t> patch_keys_;
+  std::vector<std::vector<Element>> pending_;
+};
+
+std::uint64_t patch_key(int pu, int pv) {
+  return (std::uint64_t(pu) << 32) | std::uint32_t(pv);
+}
+
+void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
+  sb.begin_surface();
+  const double h = 1e-5;
+  std::vector<std::uint32_t> ids;
+  ids.reserve(std::size_t(g.nu + 1) * std::size_t(g.nv + 1));
+  for (int j = 0; j <= g.nv; ++j) {
+    for (int i = 0; i <= g.nu; ++i) {
+      double u = double(i) / g.nu, v = double(j) / g.nv;
+      double u0 = std::max(0.0, u - h), u1 = std::min(1.0, u + h);
+      double v0 = std::max(0.0, v - h), v1 = std::min(1.0, v + h);
+      Vec3 dpdu = (g.position(u1, v) - g.position(u0, v)) / (u1 - u0);
+      Vec3 dpdv = (g.position(u, v1) - g.position(u, v0)) / (v1 - v0);
+      ids.push_back(sb.add_vertex(g.position(u, v), {u, v}, dpdu, dpdv));
+    }
+  }
+  sb.weld();
+  auto at = [&](int i, int j) { return ids[std::size_t(j) * std::size_t(g.nu + 1) + i]; };
+  for (int pv = 0; pv * k < g.nv; ++pv) {
+    for (int pu = 0; pu * k < g.nu; ++pu) {
+      std::uint32_t patch = sb.patch_for(patch_key(pu, pv));
+      for (int j = pv * k; j < std::min(g.nv, (pv + 1) * k); ++j)
+        for (int i = pu * k; i < std::min(g.nu, (pu + 1) * k); ++i)
+          sb.add_element(patch, {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)}, 4);
+    }
+  }
+  sb.end_surface();
+}
+
+// Each input triangle is split into n^2 triangles on a barycentric grid (i, j); row j holds
+// n + 1 - j vertices. Patches group k x k grid cells and never span two input triangles.
+void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDensity& d,
+                    double size, int k) {
+  struct TriangleGrid {
+    int n;
+    std::uint32_t first_vertex;
+  };
+  auto emit = [&](std::size_t t, const TriangleGrid& g) {
+    auto id = [&](int i, int j) {
+      return g.first_vertex + std::uint32_t(j * (g.n + 1) - j * (j - 1) / 2 + i);
+    };
+    for (int j = 0; j < g.n; ++j)
+      for (int i = 0; i + j < g.n; ++i) {
+        std::uint64_t key =
+            (std::uint64_t(t) << 32) | (std::uint64_t(j / k) << 16) | std::uint64_t(i / k);
+        std::uint32_t patch = sb.patch_for(key);
+        sb.add_element(patch, {id(i, j), id(i + 1, j), id(i, j + 1), 0}, 3);
+        if (i + j + 1 < g.n)
+          sb.add_element(patch, {id(i + 1, j), id(i + 1, j + 1), id(i, j + 1), 0}, 3);
+      }
+  };
+  auto add_grid = [&](const std::array<std::uint32_t, 3>& t) {
+    Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    TriangleGrid g{triangle_subdivisions(m, t, d, size), 0};
+    for (int j = 0; j <= g.n; ++j)
+      for (int i = 0; i + j <= g.n; ++i) {
+        double u = double(i) / g.n, v = double(j) / g.n;
+        std::uint32_t id = sb.add_vertex(a + u * (b - a) + v * (c - a), {u, v}, b - a, c - a);
+        if (i == 0 && j == 0) g.first_vertex = id;
+      }
+    return g;
+  };
+  if (m.smooth) {
+    sb.begin_surface();
+    std::vector<TriangleGrid> grids;
+    for (const auto& t : m.triangles) grids.push_back(add_grid(t));
+    sb.weld();
+    for (std::size_t t = 0; t < grids.size(); ++t) emit(t, grids[t]);
+    sb.end_surface();
+    return;
+  }
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    sb.begin_surface();
+    emit(t, add_grid(m.triangles[t]));
+    sb.end_surface();
+  }
+}
+
+// A sixteenth of the bounding-box diagonal of all objects: the scene's natural element size.
+double sixteenth_of_diagonal(const Scene& scene) {
+  Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  auto grow = [&](const Vec3& p, double r) {
+    lo = glm::min(lo, p - Vec3(r));
+    hi = glm::max(hi, p + Vec3(r));
+  };
+  for (const Object& o : scene.objects) {
+    std::visit(
+        [&](const auto& s) {
+          using T = std::decay_t<decltype(s)>;
+          if constexpr (std::is_same_v<T, QuadShape>) {
+            for (const Vec3& p : s.corners) grow(p, 0);
+          } else if constexpr (std::is_same_v<T, BoxShape>) {
+            for (const Vec3& p : box_corners(s)) grow(p, 0);
+          } else if constexpr (std::is_same_v<T, SphereShape>) {
+            grow(s.center, s.radius);
+          } else if constexpr (std::is_same_v<T, CylinderShape>) {
+            grow(s.base, s.radius);
+            grow(s.top, s.radius);
+          } else {
+            for (const Vec3& p : s.positions) grow(p, 0);
+          }
+        },
+        o.shape);
+  }
+  double diag = scene.objects.empty() ? 1.0 : glm::length(hi - lo);
+  return diag > 0 ? diag / 16 : 1.0;
+}
+
+// Elements per patch side: the object's setting, else the scene's, else automatic: on flat
+// shapes (quads, boxes) patches of about `patch_size` (the scene's natural element size)
+// whatever the elements' size, at least 2 x 2, so that a finer mesh refines what receives
+// light, not what shoots it. The Cornell box at 15 mm elements (8,992): 2 x 2 patches took
+// 3,203 shots, 8.0 s; 4 x 4 patches 886 shots, 2.6 s, with the same image error against
+// the path tracer.
+int patch_elements(const Scene& scene, const Object& object, double element_size,
+                   double patch_size) {
+  if (object.density.patch_elements > 0) return object.density.patch_elements;
+  if (scene.solver.patch_elements > 0) return scene.solver.patch_elements;
+  // Curved surfaces keep small patches: one hemi-cube stands for a patch's whole face.
+  const bool flat = std::holds_alternative<QuadShape>(object.shape) ||
+                    std::holds_alternative<BoxShape>(object.shape);
+  if (!flat || object.density.counts[0] > 0 || !(element_size > 0)) return 2;
+  return std::max(2, int(std::lround(patch_size / element_size)));
+}
+
+}  // namespace
+
+double Mesh::diagonal() const {
+  return glm::length(bounds_max - bounds_min);
+}
+
+double default_element_size(const Scene& scene) {
+  return scene.solver.element_size > 0 ? scene.solver.element_size : sixteenth_of_diagonal(scene);
+}
+
+std::size_t estimate_element_count(const Object& object, double default_size) {
+  double size = object.density.element_size > 0 ? object.density.element_size : default_size;
+  if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
+    std::size_t total = 0;
+    for (const auto& t : m->triangles) {
+      bool valid =
+          t[0] < m->positions.size() && t[1] < m->positions.size() && t[2] < m->positions.size();
+      std::size_t n = valid ? std::size_t(triangle_subdivisions(*m, t, object.density, size)) : 1;
+      total += n * n;
+    }
+    return total;
+  }
+  std::size_t total = 0;
+  for (const Grid& g : grids_for(object, default_size))
+    total += std::size_t(g.nu) * std::size_t(g.nv);
+  return total;
+}
+
+Mesh build_mesh(const Scene& scene) {
+  Mesh mesh;
+  double size = default_element_size(scene);
+  const double patch_size = sixteenth_of_diagonal(scene);
+  double weld_tol = size * 1e-6;
+  for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
+    const Object& object = scene.objects[oi];
+    const double object_size = object.density.element_size > 0 ? object.density.element_size : size;
+    const int k = patch_elements(scene, object, object_size, patch_size);
+    SurfaceBuilder sb(mesh, object, oi, weld_tol);
+    if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
+      mesh_triangles(sb, *m, object.density, object_size, k);
+    } else {
+      for (const Grid& g : grids_for(object, size)) mesh_grid(sb, g, k);
+    }
+  }
+
+  // Vertex normals: area-weighted element normals; bounds from the vertices in use.
+  mesh.bounds_min = Vec3(std::numeric_limits<double>::max());
+  mesh.bounds_max = -mesh.bounds_min;
+  for (const Element& e : mesh.elements)
+    for (int i = 0; i < e.vertex_count; ++i) {
+      Vertex& v = mesh.vertices[e.v[i]];
+      v.normal += e.area * e.normal;
+      mesh.bounds_min = glm::min(mesh.bounds_min, v.position);
+      mesh.bounds_max = glm::max(mesh.bounds_max, v.position);
+    }
+  for (Vertex& v : mesh.vertices) {
+    double len = glm::length(v.normal);
+    if (len > 0) v.normal /= len;
+  }
+  if (mesh.elements.empty()) mesh.bounds_min = mesh.bounds_max = Vec3(0);
+  return mesh;
+}
+
+}  // namespace bumprad

@@ -1,0 +1,67 @@
+// Meshing: scene objects become smooth surfaces, patches (which shoot) and elements (planar
+// quads or triangles, which receive). Vertices are shared within a surface, never across a
+// crease, so vertex radiosity is averaged only where the surface is smooth.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "solver/scene/scene.h"
+
+namespace bumprad {
+
+struct Vertex {
+  Vec3 position;
+  Vec3 normal;      // area-weighted mean of the adjacent element normals
+  glm::dvec2 uv;    // the surface's own (u,v) parameterisation in [0,1]^2
+  Vec3 dpdu, dpdv;  // parametric derivatives: the tangent frame for bump perturbation
+};
+
+struct Element {
+  std::array<std::uint32_t, 4>
+      v{};  // counter-clockwise seen from the front; v[3] unused if triangle
+  int vertex_count = 4;
+  std::uint32_t patch = 0;
+  std::uint32_t surface = 0;
+  std::uint32_t object = 0;
+  int material = 0;
+  Vec3 centroid{0};
+  Vec3 normal{0};
+  double area = 0;
+};
+
+// A patch owns the contiguous elements [first, first + count).
+struct Patch {
+  std::uint32_t first = 0;
+  std::uint32_t count = 0;
+  Vec3 centroid{0};
+  Vec3 normal{0};
+  double area = 0;
+};
+
+struct Mesh {
+  std::vector<Vertex> vertices;
+  std::vector<Element> elements;
+  std::vector<Patch> patches;
+  std::uint32_t surface_count = 0;
+  Vec3 bounds_min{0};
+  Vec3 bounds_max{0};
+
+  double diagonal() const;
+};
+
+// The element size a scene uses where an object does not say: the solver setting, or a
+// sixteenth of the bounding-box diagonal of all objects.
+double default_element_size(const Scene& scene);
+
+// The number of elements build_mesh will make for `object` (an upper bound: welding at
+// poles only removes), so that oversized scenes are refused before memory is spent.
+std::size_t estimate_element_count(const Object& object, double default_size);
+
+Mesh build_mesh(const Scene& scene);
+
+}  // namespace bumprad

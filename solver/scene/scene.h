@@ -1,0 +1,203 @@
+// The scene as the solver sees it: camera, materials, shapes and solver settings as plain
+// values. protocol/ builds one from JSON and validates it; the solver trusts what it gets.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <memory>
+
+#include "solver/util/image.h"
+#include "solver/util/math.h"
+
+namespace bumprad {
+
+// Documented limits; protocol/ rejects scenes beyond them before any work is done.
+struct Limits {
+  static constexpr int kMaxElements = 200'000;
+  static constexpr int kMinHemicube = 16;
+  static constexpr int kMaxHemicube = 1024;
+  static constexpr int kMaxImageSide = 8192;
+  static constexpr int kMaxShots = 1'000'000;
+  static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
+  static constexpr int kMaxAntialias = 8;
+  static constexpr int kMaxAntialiasMax = 16;  // the adaptive grid (camera.h)
+  // Coordinates and sizes, in scene units: squares and cross products must not overflow.
+  static constexpr double kMaxMagnitude = 1e12;
+};
+
+struct Camera {
+  Vec3 position{0, 0, -1};
+  Vec3 look_at{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  double fov_y_deg = 40;
+  int width = 512;
+  int height = 512;
+  double exposure = 1;     // multiplies radiance before tone mapping
+  int antialias = 1;       // n: an n x n stratified grid of rays per pixel
+  int antialias_max = 0;   // m: pixels whose n x n rays disagree get m x m; 0: 2n (camera.h)
+  int max_depth = 5;       // specular bounces followed from the eye
+  int glossy_samples = 8;  // lobe samples at the first glossy surface a ray meets
+  int shadow_rays = 4;     // per ray hit, toward the emitters (DirectLight::Exact)
+};
+
+// How an image or pattern repeats outside [0,1]^2.
+enum class Wrap { Repeat, Clamp, Mirror };
+
+// A colour texture over a surface's (u,v): its colours are diffuse reflectances. The solve
+// uses their mean (Material::reflectance); rendering scales the reflected radiosity by
+// rho(u,v) / mean (Cohen et al. 1986), which is how the paper shows its chessboard floor.
+struct ColorTexture {
+  enum class Kind { Checker, Image };
+  Kind kind = Kind::Checker;
+  std::array<Rgb, 2> colors{Rgb(0.1), Rgb(0.8)};  // checker
+  std::shared_ptr<const Image> image;             // image: linear reflectances
+  Wrap wrap = Wrap::Repeat;
+  glm::dvec2 scale{1, 1};  // checker: squares across the surface; image: repeats
+  glm::dvec2 offset{0, 0};
+};
+
+// Diffuse albedo rho and emitted radiosity E (W/m^2, i.e. pi times the radiance).
+// `specular` (k_s) and `shininess` are carried for the non-diffuse pass; until that pass
+// exists the specular fraction is absorbed.
+struct Material {
+  std::string name;
+  Rgb reflectance{0.5, 0.5, 0.5};
+  Rgb emission{0, 0, 0};
+  double specular = 0;
+  double shininess = 0;  // 0 means a perfect mirror
+  std::optional<ColorTexture> texture;
+};
+
+// How finely one object is meshed. A count of 0 means "derive from element_size"; an
+// element_size of 0 means "use the scene default".
+struct MeshDensity {
+  double element_size = 0;
+  std::array<int, 2> counts{0, 0};
+  int patch_elements = 0;  // elements per patch side; 0 means the scene default
+};
+
+struct QuadShape {
+  std::array<Vec3, 4> corners;  // counter-clockwise seen from the lit side
+};
+struct BoxShape {
+  Vec3 center{0, 0, 0};
+  Vec3 size{1, 1, 1};
+  Vec3 rotation_deg{0, 0, 0};  // applied about x, then y, then z
+};
+struct SphereShape {
+  Vec3 center{0, 0, 0};
+  double radius = 1;
+};
+struct CylinderShape {
+  Vec3 base{0, 0, 0};
+  Vec3 top{0, 1, 0};
+  double radius = 1;
+  bool caps = true;
+};
+struct TriangleMeshShape {
+  std::vector<Vec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  bool smooth = false;  // share vertices (and interpolate radiosity) across triangles
+};
+using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
+
+// A named bump (height) function; solver/scene/bump.h evaluates it.
+enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder, Image };
+
+// Heights are in scene units; the pattern is evaluated at uv * scale + offset, where uv is
+// the surface's own parameterisation in [0,1]^2.
+struct BumpFunction {
+  std::string name;
+  BumpType type = BumpType::Wrinkles;
+  double amplitude = 0.01;
+  glm::dvec2 scale{1, 1};
+  glm::dvec2 offset{0, 0};
+  int octaves = 4;           // noise
+  std::uint32_t seed = 1;    // noise
+  double direction_deg = 0;  // wrinkles, cylinder: the (u,v) direction the height varies along
+  double mortar = 0.08;      // bricks, tiles: groove width, fraction of a cell
+  double radius = 0.35;      // dimples: fraction of a cell
+  std::shared_ptr<const Image> image;  // image: grey-scale heights in [0,1], bilinear
+  Wrap wrap = Wrap::Repeat;            // image
+};
+
+struct Object {
+  std::string name;
+  Shape shape;
+  int material = 0;           // index into Scene::materials
+  bool flip_normals = false;  // e.g. a box seen from inside
+  MeshDensity density;
+  int bump = -1;  // index into Scene::bumps, or -1 for a smooth surface
+};
+
+// Where the perturbed radiosity map comes from: none, a gather pass after the solve, or
+// shooting at every refinement step (so every preview shows bumps).
+enum class TextureMode { None, Gather, Shoot };
+
+// How a shot's form factors are found: the hemi-cube's item buffer (Cohen & Greenberg 1985)
+// or rays from each receiver to points on the shooter (Wallace, Elmquist & Haines 1989).
+enum class FormFactorMethod { Hemicube, RayCast };
+
+// Where an image's direct light comes from. Exact: per pixel, from the emitters (Lambert's
+// closed form times the share shadow rays see, with the perturbed normal N'), while the
+// radiosity solution and the perturbed map carry only the indirect light. Radiosity: all
+// light from the solution and the map, as Chen & Wu render it.
+enum class DirectLight { Exact, Radiosity };
+
+// What the perturbed map stores per vertex (solver/radiosity/map_basis.h): spherical harmonics of
+// the incident light, bands 0-2 and 4 (18 numbers a channel), or the paper's sampled normals.
+enum class MapBasisKind { SphericalHarmonics, SampledNormals };
+
+struct MapSettings {
+  MapBasisKind basis = MapBasisKind::SphericalHarmonics;
+  // Sampled normals only: N plus `azimuths` directions on each tilt ring.
+  std::vector<double> tilts_deg{22.5, 45};
+  int azimuths = 8;
+  bool self_illumination = false;  // paper section 3: bumps lit by the surface itself
+};
+
+struct SolverSettings {
+  int hemicube_resolution = 150;  // pixels across the top face; even
+  int max_shots = 1000;
+  // Stop once unshot power (in magnitude: overshooting leaves negative residuals) / emitted
+  // power falls below this.
+  double unshot_fraction = 0.01;
+  // Target relative RMS error of the image against ground truth; 0: off. When set, the solve
+  // estimates its error (solver/render/error_estimate.h) once it reaches unshot_fraction, and
+  // shoots on to a third of the unshot power while the estimate is above the target, falls, and
+  // max_shots allows. SolveStats reports the estimate.
+  double tolerance = 0;
+  double element_size = 0;      // 0: a sixteenth of the scene's bounding-box diagonal
+  int patch_elements = 0;       // elements per patch side (patches shoot, elements receive);
+                                // 0: automatic, mesh.h's patch_elements()
+  int preview_every = 10;       // shots per refinement step (callback, preview)
+  bool rotate_hemicube = true;  // random rotation about N per shot against aliasing
+  FormFactorMethod form_factors = FormFactorMethod::Hemicube;
+  // Hemi-cube shots: receivers expected to cover fewer pixels than this get ray-cast form
+  // factors instead (aliasing); 0 turns the fallback off.
+  double alias_pixels = 1;
+  // Adaptive subdivision (Cohen et al. 1986): after a solve, split elements whose radiosity
+  // differs from a neighbour's by more than adaptive_threshold (relative), and solve again,
+  // at most adaptive_levels times. 0 levels: the mesh stays as built.
+  int adaptive_levels = 0;
+  double adaptive_threshold = 0.1;
+  std::uint32_t seed = 1;
+  TextureMode texture = TextureMode::Shoot;
+  DirectLight direct_light = DirectLight::Exact;
+  MapSettings map;
+};
+
+struct Scene {
+  Camera camera;
+  std::vector<Material> materials;
+  std::vector<Object> objects;
+  std::vector<BumpFunction> bumps;
+  SolverSettings solver;
+};
+
+}  // namespace bumprad

@@ -1,0 +1,85 @@
+#include "solver/util/image.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include "common/atomic_file.h"
+
+namespace bumprad {
+
+Rgb Image::at(int x, int y) const {
+  std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  return {rgb[i], rgb[i + 1], rgb[i + 2]};
+}
+
+void Image::set(int x, int y, const Rgb& c) {
+  std::size_t i = 3 * (std::size_t(y) * std::size_t(width) + std::size_t(x));
+  rgb[i] = float(c.r);
+  rgb[i + 1] = float(c.g);
+  rgb[i + 2] = float(c.b);
+}
+
+double srgb_encode(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;
+}
+
+std::string encode_image(const Image& image, ImageFormat format, double exposure) {
+  const std::string name(format_name(format));
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  auto out = OIIO::ImageOutput::create(name);
+  if (!out) throw std::runtime_error("no " + name + " writer: " + OIIO::geterror());
+  out->set_ioproxy(&proxy);
+  bool ok;
+  if (format != ImageFormat::Exr) {
+    std::vector<std::uint8_t> px(image.rgb.size());
+    for (std::size_t i = 0; i < px.size(); ++i)
+      px[i] = std::uint8_t(std::lround(255 * srgb_encode(exposure * image.rgb[i])));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    if (format == ImageFormat::Jpeg) spec.attribute("CompressionQuality", 90);
+    ok = out->open("memory." + name, spec) && out->write_image(OIIO::TypeDesc::UINT8, px.data());
+  } else {
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
+    ok = out->open("memory." + name, spec) &&
+         out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+  }
+  ok = out->close() && ok;
+  if (!ok) throw std::runtime_error("encoding " + name + ": " + out->geterror());
+  return std::string(bytes.begin(), bytes.end());
+}
+
+void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
+  auto format = image_format_for(path);
+  if (!format)
+    throw std::runtime_error(path.string() + ": unsupported image type (use .png, .exr or .jpg)");
+  write_file_atomically(path, encode_image(image, *format, exposure));
+}
+
+Image read_image(const std::filesystem::path& path) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  std::vector<float> px(std::size_t(spec.width) * std::size_t(spec.height) *
+                        std::size_t(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+    throw std::runtime_error(path.string() + ": " + in->geterror());
+  bool srgb = spec.format == OIIO::TypeDesc::UINT8;
+  Image img(spec.width, spec.height);
+  for (std::size_t i = 0, n = std::size_t(spec.width) * std::size_t(spec.height); i < n; ++i)
+    for (std::size_t c = 0; c < 3; ++c) {
+      float v = px[i * std::size_t(spec.nchannels) +
+                   std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
+      if (srgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+      img.rgb[3 * i + c] = v;
+    }
+  return img;
+}
+
+}  // namespace bumprad

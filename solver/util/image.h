@@ -1,0 +1,39 @@
+// Linear RGB images and their files: PNG (exposure, sRGB, 8-bit) for viewing and OpenEXR
+// (linear radiance, half float) for HDR, both through OpenImageIO, both written atomically.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/image_format.h"
+#include "solver/util/math.h"
+
+namespace bumprad {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // row-major from the top-left, linear radiance
+
+  Image() = default;
+  Image(int w, int h) : width(w), height(h), rgb(std::size_t(w) * std::size_t(h) * 3, 0.f) {}
+  Rgb at(int x, int y) const;
+  void set(int x, int y, const Rgb& c);
+};
+
+// Linear [0,1] to the sRGB transfer curve.
+double srgb_encode(double linear);
+
+// The file's bytes: PNG and JPEG (quality 90) apply `exposure` and the sRGB curve; EXR keeps
+// linear radiance and ignores exposure. Files and HTTP bodies share this one encoder.
+std::string encode_image(const Image& image, ImageFormat format, double exposure);
+
+// The format follows the extension (.png, .exr, .jpg); other extensions are refused.
+// Throws std::runtime_error naming the path on failure.
+void write_image(const std::filesystem::path& path, const Image& image, double exposure);
+
+// Reads any format OpenImageIO knows into linear floats (PNG is decoded from sRGB).
+Image read_image(const std::filesystem::path& path);
+
+}  // namespace bumprad

@@ -1,0 +1,95 @@
+// The near field puts back exactly the light a crease receives from the surface beside it,
+// which vertex interpolation spreads linearly across an element: checked against Lambert's
+// closed form on a floor along a wall, and for what another surface hides.
+#include "solver/radiosity/near_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "solver/radiosity/form_factor_exact.h"
+#include "solver/radiosity/vertex_radiosity.h"
+#include "solver/scene/geometry.h"
+#include "tests/test_scenes.h"
+
+namespace bumprad {
+namespace {
+
+// A unit floor (y = 0, facing up) meeting a unit wall (x = 0, facing +x) along the z axis.
+constexpr std::array<Vec3, 4> kFloor = {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 0, 0)};
+constexpr std::array<Vec3, 4> kWall = {Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(0, 1, 1), Vec3(0, 0, 1)};
+
+// The wall has radiosity 1 and nothing else gives light, so a floor point of reflectance
+// rho shows rho F(point -> wall) exactly. The floor's elements get that averaged over each
+// (a 32 x 32 midpoint rule), as a solve would give them; between vertices it is interpolated
+// linearly, which near the crease, where F climbs to 1/2, is far too bright. With the near
+// field each point gets the wall's light from its own position: within 1.5 % of Lambert's
+// closed form from 1 cm to 25 cm off the wall (1 % measured), where interpolation is up to
+// 40 % off.
+TEST(NearField, ACreaseGetsLambertsLightWhereInterpolationSpreadsIt) {
+  const Mesh mesh = build_mesh(test::scene_of({test::quad(kFloor, 2, 2), test::quad(kWall, 2, 2)}));
+  const RayScene rays(mesh);
+  const NearField near(mesh, rays, {});
+  const double rho = 0.5;
+  const Vec3 up(0, 1, 0);
+  auto exact = [&](const Vec3& p) { return rho * point_to_polygon(p, up, kWall); };
+
+  std::vector<Rgb> reflected(mesh.elements.size(), Rgb(1));
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    if (e.normal.y < 0.5) continue;  // the wall
+    double sum = 0;
+    for (int a = 0; a < 32; ++a)
+      for (int b = 0; b < 32; ++b) {
+        const auto w = corner_weights(e, (a + 0.5) / 32, (b + 0.5) / 32);
+        Vec3 p(0);
+        for (int k = 0; k < 4; ++k)
+          p += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+        sum += exact(p);
+      }
+    reflected[i] = Rgb(sum / 1024);
+  }
+  const std::vector<Rgb> values = vertex_radiosity(mesh, reflected);
+  const NearFieldShading shading(near, reflected);
+
+  double worst_interpolated = 0;
+  for (double d : {0.01, 0.03, 0.1, 0.25})
+    for (double z : {0.1, 0.4, 0.7}) {
+      const auto hit = rays.intersect({Vec3(d, 0.5, z), -up});
+      ASSERT_TRUE(hit && hit->front);
+      const Element& e = mesh.elements[hit->element];
+      const Vec3 p(d, 0, z);
+      const double interpolated = interpolate(e, values, hit->u, hit->v).r;
+      const double corrected =
+          interpolated +
+          shading.correction(e, corner_weights(e, hit->u, hit->v), p, up, Rgb(rho), values).r;
+      EXPECT_NEAR(corrected / exact(p), 1, 0.015) << "at " << d << " m from the wall, z " << z;
+      worst_interpolated = std::max(worst_interpolated, std::abs(interpolated / exact(p) - 1));
+    }
+  EXPECT_GT(worst_interpolated, 0.1);  // what the near field is for
+}
+
+// Near sets take their elements as seen, so an element another surface hides is left out:
+// a rug 1 mm over the floor hides the floor from the wall's bottom row, but not itself.
+TEST(NearField, ANearSetLeavesOutWhatAnotherSurfaceHides) {
+  const std::array<Vec3, 4> rug = {Vec3(0.01, 0.001, 0), Vec3(0.01, 0.001, 1), Vec3(1, 0.001, 1),
+                                   Vec3(1, 0.001, 0)};
+  const Mesh mesh = build_mesh(
+      test::scene_of({test::quad(kFloor, 2, 2), test::quad(kWall, 2, 2), test::quad(rug, 2, 2)}));
+  const RayScene rays(mesh);
+  const NearField near(mesh, rays, {});
+  int rug_terms = 0;
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (mesh.vertices[v].normal.x < 0.5 || mesh.vertices[v].position.y > 0.01) continue;
+    for (const NearField::Term& t : near.terms(v)) {
+      const Element& e = mesh.elements[t.element];
+      EXPECT_GT(e.centroid.y, 0) << "the wall's vertex at the floor sees the floor under the rug";
+      rug_terms += e.centroid.y > 0 && e.normal.y > 0.5;
+    }
+  }
+  EXPECT_GT(rug_terms, 0);
+}
+
+}  // namespace
+}  // namespace bumprad

@@ -1,0 +1,85 @@
+// Which part of each element is open to the scene, and vertex radiosity that leaves buried
+// parts out: a box standing on a floor buries the floor beneath it, and the floor's vertices
+// at the box's foot take the open floor's radiosity, not a mean with the dark buried floor.
+#include "solver/radiosity/vertex_radiosity.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/test_scenes.h"
+
+namespace bumprad {
+namespace {
+
+// A 2 x 2 floor of 4 x 4 elements (0.5 wide), and a unit-high box over x in [-1, x1],
+// y in [-1, 0].
+Scene floor_with_box(double x1) {
+  Object box;
+  box.shape = BoxShape{Vec3((x1 - 1) / 2, -0.5, 0.5), Vec3(x1 + 1, 1, 1), Vec3(0)};
+  return test::scene_of(
+      {test::quad({Vec3(-1, -1, 0), Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(-1, 1, 0)}, 4, 4), box});
+}
+
+TEST(OpenShare, ABoxBuriesTheFloorBeneathIt) {
+  for (double x1 : {0.0, -0.25}) {  // along element edges, and through the middle of some
+    const Mesh mesh = build_mesh(floor_with_box(x1));
+    const RayScene rays(mesh);
+    const std::vector<double> open = open_share(mesh, rays);
+    for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+      const Element& e = mesh.elements[i];
+      if (e.object != 0) {
+        EXPECT_EQ(open[i], 1) << "the box's own faces are open";
+        continue;
+      }
+      const Vec3& c = e.centroid;
+      const double covered_x = std::clamp((x1 - (c.x - 0.25)) / 0.5, 0.0, 1.0);
+      const double expected = c.y < 0 ? 1 - covered_x : 1;
+      EXPECT_DOUBLE_EQ(open[i], expected) << c.x << ", " << c.y << " box to x = " << x1;
+    }
+  }
+}
+
+// The Cornell box's red wall is a quad 3.2 mm out of plane: points spread over its
+// bilinear elements lie a little behind the two triangles Embree makes of each, and rays
+// from them met their own element's back. Nothing buries it.
+TEST(OpenShare, ANonPlanarWallIsOpen) {
+  for (double element_size : {30.0, 60.0}) {
+    Scene s = test::scene_of({test::quad(
+        {Vec3(552.8, 0, 0), Vec3(549.6, 0, 559.2), Vec3(556, 548.8, 559.2), Vec3(556, 548.8, 0)})});
+    s.objects[0].density = MeshDensity{};
+    s.solver.element_size = element_size;
+    const Mesh mesh = build_mesh(s);
+    const RayScene rays(mesh);
+    for (double open : open_share(mesh, rays)) EXPECT_EQ(open, 1) << element_size;
+  }
+}
+
+TEST(OpenShare, VerticesAtTheFootOfABoxTakeTheOpenFloor) {
+  const Mesh mesh = build_mesh(floor_with_box(0));
+  const RayScene rays(mesh);
+  const std::vector<double> open = open_share(mesh, rays);
+  std::vector<Rgb> b(mesh.elements.size());
+  for (std::size_t i = 0; i < b.size(); ++i) b[i] = Rgb(open[i] > 0 ? 1 : 0);
+  const std::vector<Rgb> plain = vertex_radiosity(mesh, b);
+  const std::vector<Rgb> weighted = vertex_radiosity(mesh, b, open);
+  std::vector<bool> on_floor(mesh.vertices.size(), false);
+  for (const Element& e : mesh.elements)
+    for (int k = 0; k < e.vertex_count; ++k) on_floor[e.v[std::size_t(k)]] = e.object == 0;
+  int foot = 0;
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Vec3& p = mesh.vertices[v].position;
+    if (!on_floor[v]) continue;
+    const bool under = p.x < -1e-9 && p.y < -1e-9, edge = !under && p.x < 1e-9 && p.y < 1e-9;
+    if (edge && p.x > -1 && p.y > -1) {
+      ++foot;
+      EXPECT_LT(plain[v].g, 1) << "a plain mean darkens the foot";
+      EXPECT_DOUBLE_EQ(weighted[v].g, 1) << p.x << ", " << p.y;
+    }
+    if (under) {
+      EXPECT_DOUBLE_EQ(weighted[v].g, 0) << "wholly buried: the buried mean";
+    }
+  }
+  EXPECT_EQ(foot, 3);  // (0, -0.5), (0, 0) and (-0.5, 0)
+}
+
+}  // namespace
+}  // namespace bumprad

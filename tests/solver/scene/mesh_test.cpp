@@ -1,0 +1,153 @@
+// Meshing: exact areas, outward normals, welded poles and seams, patch grouping, and the
+// element-count estimate the parser relies on to refuse oversized scenes.
+#include "solver/scene/mesh.h"
+
+#include <numbers>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "tests/test_scenes.h"
+
+namespace bumprad {
+namespace {
+
+double total_area(const Mesh& m) {
+  double a = 0;
+  for (const Element& e : m.elements) a += e.area;
+  return a;
+}
+
+Scene one(Shape shape, MeshDensity d = {}) {
+  Object o;
+  o.shape = std::move(shape);
+  o.density = d;
+  return test::scene_of({o});
+}
+
+TEST(Mesh, QuadGridAreasPatchesAndSharedVertices) {
+  Scene s = test::scene_of({test::quad(test::rectangle_facing_down(3, 2, 0), 6, 4)});
+  s.objects[0].density.patch_elements = 2;
+  Mesh m = build_mesh(s);
+  EXPECT_EQ(m.elements.size(), 24u);
+  EXPECT_EQ(m.patches.size(), 6u);
+  EXPECT_EQ(m.vertices.size(), 35u);  // (6 + 1) x (4 + 1), shared
+  EXPECT_NEAR(total_area(m), 6.0, 1e-12);
+  for (const Patch& p : m.patches) {
+    EXPECT_EQ(p.count, 4u);
+    EXPECT_NEAR(p.area, 1.0, 1e-12);
+    EXPECT_NEAR(p.normal.z, -1, 1e-12);
+    for (std::uint32_t e = p.first; e < p.first + p.count; ++e)
+      EXPECT_EQ(m.elements[e].patch, std::uint32_t(&p - m.patches.data()));
+  }
+}
+
+TEST(Mesh, ElementSizeSetsTheGridAndTheDefaultIsCoarse) {
+  Scene s = test::scene_of({test::quad(test::rectangle_facing_down(3, 2, 0), 0, 0)});
+  s.objects[0].density.element_size = 0.5;
+  EXPECT_EQ(build_mesh(s).elements.size(), 24u);
+  s.objects[0].density.element_size = 0;
+  // Default: a sixteenth of the diagonal, sqrt(13)/16 = 0.225: 14 x 9 elements.
+  EXPECT_EQ(build_mesh(s).elements.size(), 126u);
+  EXPECT_EQ(estimate_element_count(s.objects[0], default_element_size(s)), 126u);
+}
+
+// Patches keep about the default element size (a sixteenth of the diagonal) when elements
+// get finer, on flat shapes; curved ones and explicit settings keep their own.
+TEST(Mesh, FinerElementsOnFlatShapesShareLargerPatches) {
+  // A 3 x 2 quad: default size sqrt(13)/16 = 0.225; at 0.05, 60 x 40 elements, 4.5 a patch
+  // side, rounded to 5: 12 x 8 patches.
+  Scene s = test::scene_of({test::quad(test::rectangle_facing_down(3, 2, 0), 0, 0)});
+  s.objects[0].density.patch_elements = 0;
+  s.solver.element_size = 0.05;
+  Mesh m = build_mesh(s);
+  EXPECT_EQ(m.elements.size(), 2400u);
+  EXPECT_EQ(m.patches.size(), 96u);
+  s.solver.patch_elements = 2;
+  EXPECT_EQ(build_mesh(s).patches.size(), 600u) << "the scene's setting wins";
+  s.solver.patch_elements = 0;
+  s.objects[0].density.patch_elements = 3;
+  EXPECT_EQ(build_mesh(s).patches.size(), 20u * 14u) << "the object's setting wins";
+  s.objects[0].density.patch_elements = 0;
+  s.solver.element_size = 0.3;
+  EXPECT_EQ(build_mesh(s).patches.size(), 20u)
+      << "10 x 7 elements in 5 x 4 patches: never below 2 x 2";
+
+  Scene ball = one(SphereShape{Vec3(0), 1}, {.element_size = 0.05});
+  Mesh sphere = build_mesh(ball);
+  double most = 0;
+  for (const Patch& p : sphere.patches) most = std::max(most, double(p.count));
+  EXPECT_LE(most, 4) << "curved patches stay 2 x 2";
+}
+
+TEST(Mesh, BoxNormalsPointOutwardOrInwardWhenFlipped) {
+  BoxShape box{Vec3(1, 2, 3), Vec3(2, 1, 0.5), Vec3(10, 20, 30)};
+  for (bool flip : {false, true}) {
+    Scene s = one(box, {0, {2, 2}, 1});
+    s.objects[0].flip_normals = flip;
+    Mesh m = build_mesh(s);
+    EXPECT_EQ(m.elements.size(), 24u);
+    EXPECT_EQ(m.surface_count, 6u);
+    EXPECT_NEAR(total_area(m), 2 * (2 * 1 + 2 * 0.5 + 1 * 0.5), 1e-12);
+    for (const Element& e : m.elements)
+      EXPECT_EQ(glm::dot(e.normal, e.centroid - box.center) > 0, !flip);
+  }
+}
+
+TEST(Mesh, SphereIsClosedWeldedAndFacesOut) {
+  SphereShape sphere{Vec3(0.5, 0, 0), 2};
+  Mesh m = build_mesh(one(sphere, {0, {48, 24}, 2}));
+  EXPECT_NEAR(total_area(m), 4 * std::numbers::pi * 4, 0.01 * 4 * std::numbers::pi * 4);
+  EXPECT_EQ(m.surface_count, 1u);
+  int triangles = 0;
+  for (const Element& e : m.elements) {
+    EXPECT_GT(glm::dot(e.normal, e.centroid - sphere.center), 0);
+    EXPECT_GT(e.area, 0);
+    triangles += e.vertex_count == 3;
+  }
+  EXPECT_EQ(triangles, 2 * 48);  // the rows at the poles
+  // Each pole and each seam column is welded: every vertex is shared by a used element.
+  std::vector<int> uses(m.vertices.size(), 0);
+  for (const Element& e : m.elements)
+    for (int k = 0; k < e.vertex_count; ++k) uses[e.v[k]]++;
+  int used = 0;
+  for (int u : uses) used += u > 0;
+  EXPECT_EQ(used, 48 * 23 + 2);
+}
+
+TEST(Mesh, CylinderSideAndCapsShareTheRimButNotTheCrease) {
+  CylinderShape c{Vec3(0), Vec3(0, 0, 2), 0.5, true};
+  Mesh m = build_mesh(one(c, {0, {24, 4}, 1}));
+  EXPECT_EQ(m.surface_count, 3u);
+  double side = 2 * std::numbers::pi * 0.5 * 2, caps = 2 * std::numbers::pi * 0.25;
+  EXPECT_NEAR(total_area(m), side + caps, 0.02 * (side + caps));
+  for (const Element& e : m.elements) {
+    Vec3 axial(0, 0, e.centroid.z - 1);
+    Vec3 out = e.surface == 0 ? e.centroid - Vec3(0, 0, e.centroid.z) : axial;
+    EXPECT_GT(glm::dot(e.normal, out), 0) << "surface " << e.surface;
+  }
+}
+
+TEST(Mesh, TriangleMeshSubdividesAndWeldsWhenSmooth) {
+  TriangleMeshShape t;
+  t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  t.triangles = {{0, 1, 2}, {0, 2, 3}};
+  for (bool smooth : {false, true}) {
+    t.smooth = smooth;
+    Mesh m = build_mesh(one(t, {0, {3, 0}, 0}));
+    EXPECT_EQ(m.elements.size(), 18u);
+    EXPECT_NEAR(total_area(m), 1.0, 1e-12);
+    std::vector<int> uses(m.vertices.size(), 0);
+    for (const Element& e : m.elements) {
+      EXPECT_EQ(e.vertex_count, 3);
+      EXPECT_NEAR(e.normal.z, 1, 1e-12);
+      for (int k = 0; k < 3; ++k) uses[e.v[k]]++;
+    }
+    int used = 0;
+    for (int u : uses) used += u > 0;
+    EXPECT_EQ(used, smooth ? 16 : 20);  // the diagonal's 4 points shared, or not
+  }
+}
+
+}  // namespace
+}  // namespace bumprad
