@@ -20,6 +20,7 @@
 
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
+#include "common/args.h"
 #include "common/stopwatch.h"
 
 namespace {
@@ -55,19 +56,18 @@ int main(int argc, char** argv) {
   std::string server = "http://127.0.0.1:8080";
   double seconds = 20;
   int clients = 16;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    std::string a = argv[i];
-    if (a == "--server")
-      server = argv[i + 1];
-    else if (a == "--seconds")
-      seconds = std::atof(argv[i + 1]);
-    else if (a == "--clients")
-      clients = std::max(5, std::atoi(argv[i + 1]));
-    else {
-      std::fprintf(stderr,
-                   "usage: bumprad-bench-load [--server URL] [--seconds S] [--clients N]\n");
-      return 2;
-    }
+  try {
+    ArgParser()
+        .text({"--server"}, server)
+        .number({"--seconds"}, seconds, 0.1, 86'400)
+        .integer({"--clients"}, clients, 5, 10'000)
+        .parse(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr,
+                 "bumprad-bench-load: %s\nusage: bumprad-bench-load [--server URL] [--seconds S] "
+                 "[--clients N]\n",
+                 e.what());
+    return 2;
   }
   try {
     auto [host, port] = parse_server_url(server);

@@ -14,7 +14,6 @@
 //    time until all are done: jobs per minute.
 #include <algorithm>
 #include <atomic>
-#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -22,13 +21,13 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "common/args.h"
 #include "common/stopwatch.h"
 #include "server/postgres_store.h"
 #include "tests/postgres_cluster.h"
@@ -36,23 +35,6 @@
 
 namespace bumprad {
 namespace {
-
-// A whole number of at least 1 for `flag`; std::invalid_argument naming it otherwise.
-int positive(const std::string& flag, const std::string& text) {
-  int n = 0;
-  auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), n);
-  if (error != std::errc() || end != text.data() + text.size() || n < 1)
-    throw std::invalid_argument(flag + ": expected a whole number of at least 1, got \"" + text +
-                                "\"");
-  return n;
-}
-
-std::vector<int> parse_list(const std::string& flag, const std::string& text) {
-  std::vector<int> out;
-  std::stringstream in(text);
-  for (std::string item; std::getline(in, item, ',');) out.push_back(positive(flag, item));
-  return out;
-}
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
@@ -219,25 +201,25 @@ int main(int argc, char** argv) {
   std::string url;
   int jobs = 2000, farm_jobs = 60;
   std::vector<int> claimers = {1, 4, 16}, workers = {1, 2, 4};
+  const auto list = [](std::vector<int>& out) {
+    return [&out](std::string_view flag, std::string_view text) {
+      out.clear();
+      for (std::size_t start = 0; start <= text.size();) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        out.push_back(int(parse_integer(flag, text.substr(start, comma - start), 1, 1'000'000)));
+        start = comma + 1;
+      }
+    };
+  };
   try {
-    for (int i = 1; i < argc; i += 2) {
-      const std::string flag = argv[i];
-      if (i + 1 == argc) throw std::invalid_argument(flag + ": needs a value");
-      const std::string value = argv[i + 1];
-      if (flag == "--store")
-        url = value;
-      else if (flag == "--jobs")
-        jobs = positive(flag, value);
-      else if (flag == "--claimers")
-        claimers = parse_list(flag, value);
-      else if (flag == "--workers")
-        workers = parse_list(flag, value);
-      else if (flag == "--farm-jobs")
-        farm_jobs = positive(flag, value);
-      else
-        throw std::invalid_argument("unknown option " + flag);
-    }
-  } catch (const std::invalid_argument& e) {
+    ArgParser()
+        .text({"--store"}, url)
+        .integer({"--jobs"}, jobs, 1, 100'000'000)
+        .custom({"--claimers"}, list(claimers))
+        .custom({"--workers"}, list(workers))
+        .integer({"--farm-jobs"}, farm_jobs, 1, 100'000'000)
+        .parse(argc, argv);
+  } catch (const UsageError& e) {
     std::fprintf(stderr,
                  "bumprad-bench-queue: %s (options: see the comment at the top of "
                  "bench/queue_bench.cpp)\n",

@@ -15,6 +15,7 @@
 
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
+#include "common/args.h"
 #include "common/stopwatch.h"
 
 int main(int argc, char** argv) {
@@ -22,15 +23,22 @@ int main(int argc, char** argv) {
   using json = nlohmann::json;
   std::string server = "http://127.0.0.1:8080", scene = "wrinkled-box";
   int retextures = 20;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--server" && i + 1 < argc)
-      server = argv[++i];
-    else if (a == "--retextures" && i + 1 < argc)
-      retextures = std::max(1, std::atoi(argv[++i]));
-    else
-      scene = a.starts_with("builtin:") ? a.substr(8) : a;
+  std::vector<std::string> positional;
+  try {
+    ArgParser()
+        .text({"--server"}, server)
+        .integer({"--retextures"}, retextures, 1, 100'000)
+        .positional(positional, 1)
+        .parse(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr,
+                 "bumprad-bench-service: %s\nusage: bumprad-bench-service [SCENE] [--server URL] "
+                 "[--retextures N]\n",
+                 e.what());
+    return 2;
   }
+  if (!positional.empty())
+    scene = positional[0].starts_with("builtin:") ? positional[0].substr(8) : positional[0];
   try {
     auto [host, port] = parse_server_url(server);
     HttpClient client(host, port, 600);

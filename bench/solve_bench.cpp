@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/radiosity/progressive.h"
@@ -39,27 +40,24 @@ int main(int argc, char** argv) {
   std::string source = "builtin:paper-room";
   int shots = -1, hemicube = -1, patch_elements = 0;
   double element_size = 0, unshot = 0;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--shots" && i + 1 < argc)
-      shots = std::atoi(argv[++i]);
-    else if (a == "--hemicube" && i + 1 < argc)
-      hemicube = std::atoi(argv[++i]);
-    else if (a == "--element-size" && i + 1 < argc)
-      element_size = std::atof(argv[++i]);
-    else if (a == "--patch-elements" && i + 1 < argc)
-      patch_elements = std::atoi(argv[++i]);
-    else if (a == "--unshot" && i + 1 < argc)
-      unshot = std::atof(argv[++i]);
-    else if (a[0] != '-')
-      source = a;
-    else {
-      std::fprintf(stderr,
-                   "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] "
-                   "[--element-size S] [--patch-elements K] [--unshot F]\n");
-      return 2;
-    }
+  std::vector<std::string> positional;
+  try {
+    ArgParser()
+        .integer({"--shots"}, shots, 1, 100'000'000)
+        .integer({"--hemicube"}, hemicube, 2, 4096)
+        .number({"--element-size"}, element_size, 0, 1e300)
+        .integer({"--patch-elements"}, patch_elements, 1, 1024)
+        .number({"--unshot"}, unshot, 0, 1)
+        .positional(positional, 1)
+        .parse(argc, argv);
+  } catch (const UsageError& e) {
+    std::fprintf(stderr,
+                 "bumprad-bench-solve: %s\nusage: bumprad-bench-solve [SCENE] [--shots N] "
+                 "[--hemicube R] [--element-size S] [--patch-elements K] [--unshot F]\n",
+                 e.what());
+    return 2;
   }
+  if (!positional.empty()) source = positional.front();
   try {
     Scene scene = load_scene(source);
     if (shots > 0) scene.solver.max_shots = shots;

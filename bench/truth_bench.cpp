@@ -16,6 +16,7 @@
 #include <string>
 
 #include "bench/truth_metrics.h"
+#include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/render/path_tracer.h"
@@ -29,17 +30,20 @@ int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source, cache;
   int spp = 1024;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--spp" && i + 1 < argc)
-      spp = std::max(1, std::atoi(argv[++i]));
-    else if (a == "--reference" && i + 1 < argc)
-      cache = argv[++i];
-    else
-      source = a;
-  }
-  if (source.empty()) {
-    std::fprintf(stderr, "usage: bumprad-bench-truth SCENE [--spp N] [--reference REF.exr]\n");
+  std::vector<std::string> positional;
+  try {
+    ArgParser()
+        .integer({"--spp"}, spp, 1, 1 << 24)
+        .text({"--reference"}, cache)
+        .positional(positional, 1)
+        .parse(argc, argv);
+    if (positional.empty()) throw UsageError("no scene given");
+    source = positional.front();
+  } catch (const UsageError& e) {
+    std::fprintf(stderr,
+                 "bumprad-bench-truth: %s\nusage: bumprad-bench-truth SCENE [--spp N] "
+                 "[--reference REF.exr]\n",
+                 e.what());
     return 2;
   }
   try {

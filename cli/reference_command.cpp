@@ -7,7 +7,7 @@
 #include <mutex>
 #include <string>
 
-#include "cli/usage_error.h"
+#include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "solver/render/path_tracer.h"
@@ -31,38 +31,16 @@ struct ReferenceArgs {
 
 ReferenceArgs parse_args(std::span<const std::string_view> args) {
   ReferenceArgs r;
-  auto value = [&](std::size_t& i) {
-    if (i + 1 >= args.size()) throw UsageError(std::string(args[i]) + " needs a value");
-    return std::string(args[++i]);
-  };
-  auto count = [&](std::size_t& i, long long max) {
-    std::string flag(args[i]), v = value(i);
-    try {
-      std::size_t used = 0;
-      long long n = std::stoll(v, &used);
-      if (used == v.size() && n >= 0 && n <= max) return n;
-    } catch (const std::exception&) {
-    }
-    throw UsageError(flag + ": \"" + v + "\" is not a whole number up to " + std::to_string(max));
-  };
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string_view a = args[i];
-    if (a == "-o" || a == "--output")
-      r.output = value(i);
-    else if (a == "--spp")
-      r.settings.samples_per_pixel = int(std::max(1LL, count(i, 1 << 20)));
-    else if (a == "--seed")
-      r.settings.seed = std::uint64_t(count(i, 1LL << 62));
-    else if (a == "--bump")
-      r.bump = value(i);
-    else if (a.starts_with("-"))
-      throw UsageError("unknown option " + std::string(a));
-    else if (r.scene.empty())
-      r.scene = a;
-    else
-      throw UsageError("more than one scene given");
-  }
-  if (r.scene.empty()) throw UsageError("no scene given");
+  std::vector<std::string> scene;
+  ArgParser()
+      .text({"-o", "--output"}, r.output)
+      .integer({"--spp"}, r.settings.samples_per_pixel, 1, 1 << 20)
+      .integer({"--seed"}, r.settings.seed, 0, std::int64_t(1) << 62)
+      .text({"--bump"}, r.bump)
+      .positional(scene, 1)
+      .parse(args);
+  if (scene.empty()) throw UsageError("no scene given");
+  r.scene = scene.front();
   if (r.output.empty()) throw UsageError("no output image given (-o REF.exr)");
   if (!image_format_for(r.output)) throw UsageError(r.output + ": use .exr, .png or .jpg");
   return r;

@@ -4,12 +4,13 @@
 
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "cli/usage_error.h"
+#include "common/args.h"
 #include "common/atomic_file.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_json.h"
@@ -36,54 +37,25 @@ struct RenderArgs {
 
 RenderArgs parse_args(std::span<const std::string_view> args) {
   RenderArgs r;
-  auto value = [&](std::size_t& i) {
-    if (i + 1 >= args.size()) throw UsageError(std::string(args[i]) + " needs a value");
-    return std::string(args[++i]);
-  };
-  // The flag's value read whole by `convert` (std::stoll or std::stod), or an error naming
-  // the flag and saying what `kind` of value it takes.
-  auto parsed = [&](std::size_t& i, const char* kind, auto convert) {
-    std::string flag(args[i]), v = value(i);
-    try {
-      std::size_t used = 0;
-      auto x = convert(v, &used);
-      if (used == v.size()) return x;
-    } catch (const std::exception&) {
-    }
-    throw UsageError(flag + ": \"" + v + "\" is not " + kind);
-  };
-  auto integer = [&](std::size_t& i) {
-    return parsed(i, "an integer",
-                  [](const std::string& v, std::size_t* used) { return std::stoll(v, used); });
-  };
-  auto number = [&](std::size_t& i) {
-    return parsed(i, "a number",
-                  [](const std::string& v, std::size_t* used) { return std::stod(v, used); });
-  };
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string_view a = args[i];
-    if (a == "-o" || a == "--output")
-      r.output = value(i);
-    else if (a == "--shots")
-      r.overrides["max_shots"] = integer(i);
-    else if (a == "--hemicube")
-      r.overrides["hemicube_resolution"] = integer(i);
-    else if (a == "--tolerance")
-      r.overrides["tolerance"] = number(i);
-    else if (a == "--export-solution")
-      r.solution = value(i);
-    else if (a == "--bump")
-      r.bump = value(i);
-    else if (a == "--save-map")
-      r.save_map = value(i);
-    else if (a.starts_with("-"))
-      throw UsageError("unknown option " + std::string(a));
-    else if (r.scene.empty())
-      r.scene = a;
-    else
-      throw UsageError("more than one scene given");
-  }
-  if (r.scene.empty()) throw UsageError("no scene given");
+  std::optional<std::int64_t> shots, hemicube;
+  std::optional<double> tolerance;
+  std::vector<std::string> scene;
+  // The solver settings' own ranges are the scene format's: its validation checks them.
+  ArgParser()
+      .text({"-o", "--output"}, r.output)
+      .integer({"--shots"}, shots, INT64_MIN, INT64_MAX)
+      .integer({"--hemicube"}, hemicube, INT64_MIN, INT64_MAX)
+      .number({"--tolerance"}, tolerance, -1e300, 1e300)
+      .text({"--export-solution"}, r.solution)
+      .text({"--bump"}, r.bump)
+      .text({"--save-map"}, r.save_map)
+      .positional(scene, 1)
+      .parse(args);
+  if (shots) r.overrides["max_shots"] = *shots;
+  if (hemicube) r.overrides["hemicube_resolution"] = *hemicube;
+  if (tolerance) r.overrides["tolerance"] = *tolerance;
+  if (scene.empty()) throw UsageError("no scene given");
+  r.scene = scene.front();
   if (r.output.empty()) throw UsageError("no output image given (-o OUT.png or OUT.exr)");
   return r;
 }

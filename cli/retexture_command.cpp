@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <iostream>
 #include <string>
+#include <vector>
 
+#include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
@@ -20,27 +22,21 @@ constexpr const char* kUsage =
 }  // namespace
 
 int retexture_command(std::span<const std::string_view> args) {
-  std::string solution_path, bump, output;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string_view a = args[i];
-    bool has_value = i + 1 < args.size();
-    if ((a == "-o" || a == "--output") && has_value) {
-      output = args[++i];
-    } else if (a == "--bump" && has_value) {
-      bump = args[++i];
-    } else if (!a.starts_with("-") && solution_path.empty()) {
-      solution_path = a;
-    } else {
-      std::cerr << "bumprad retexture: unexpected argument " << a << "\n" << kUsage;
-      return 2;
-    }
-  }
-  if (solution_path.empty() || output.empty()) {
-    std::cerr << "bumprad retexture: " << (solution_path.empty() ? "no solution file" : "no -o")
-              << " given\n"
-              << kUsage;
+  std::string bump, output;
+  std::vector<std::string> positional;
+  try {
+    ArgParser()
+        .text({"-o", "--output"}, output)
+        .text({"--bump"}, bump)
+        .positional(positional, 1)
+        .parse(args);
+    if (positional.empty()) throw UsageError("no solution file given");
+    if (output.empty()) throw UsageError("no output image given (-o OUT.png or OUT.exr)");
+  } catch (const UsageError& e) {
+    std::cerr << "bumprad retexture: " << e.what() << "\n" << kUsage;
     return 2;
   }
+  const std::string& solution_path = positional.front();
   try {
     auto t0 = Clock::now();
     LoadedSolution loaded = load_solution(solution_path);

@@ -1,13 +1,11 @@
 #include "cli/serve_command.h"
 
-#include <algorithm>
-#include <charconv>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include "cli/usage_error.h"
+#include "common/args.h"
 #include "server/server.h"
 
 namespace bumprad {
@@ -50,77 +48,60 @@ constexpr const char* kWorkerUsage =
     "  (bumprad serve --help); --workers defaults to 1. SIGINT or SIGTERM returns running\n"
     "  jobs to the queue.\n";
 
-// A count or size with an optional K/M/G suffix, at least `min`.
-std::uintmax_t parse_amount(std::string_view flag, std::string_view text, std::uintmax_t min,
-                            bool suffixes) {
-  std::uintmax_t value = 0;
-  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  std::string_view rest(end, std::size_t(text.data() + text.size() - end));
-  int shift = rest == "K" ? 10 : rest == "M" ? 20 : rest == "G" ? 30 : rest.empty() ? 0 : -1;
-  if (ec != std::errc() || shift < 0 || (shift && !suffixes) || value > (UINTMAX_MAX >> shift) ||
-      (value << shift) < min)
-    throw UsageError(std::string(flag) + ": \"" + std::string(text) + "\" is not " +
-                     (suffixes ? "a size" : "a whole number") + " of at least " +
-                     std::to_string(min));
-  return value << shift;
+// The flags serve and worker share; `workers` is left empty when not given.
+ArgParser node_flags(NodeOptions& o, std::optional<int>& workers) {
+  ArgParser p;
+  p.text({"--store"}, o.store_url)
+      .custom({"--data-dir"}, [&o](std::string_view, std::string_view v) { o.data_dir = v; })
+      .integer({"--workers"}, workers, 0, 64)
+      .integer({"--max-queue"}, o.store.max_queue, 1, 1'000'000'000)
+      .custom({"--assets"},
+              [&o](std::string_view, std::string_view v) {
+                o.api.files = o.runner.files = ImageFiles::sandbox(std::string(v));
+              })
+      .integer({"--keep-steps"}, o.store.keep_steps, 1, 100'000)
+      .integer({"--max-jobs"}, o.store.retention.max_jobs, 1, 1'000'000'000)
+      .integer({"--max-bytes"}, o.store.retention.max_bytes, 1, INT64_MAX, true)
+      .integer({"--lease"}, o.postgres.lease_s, 1, 86'400)
+      .integer({"--max-attempts"}, o.postgres.max_attempts, 1, 100)
+      .integer({"--job-timeout"}, o.runner.job_timeout_s, 1, 1'000'000'000);
+  return p;
 }
 
-ServerOptions parse_args(std::span<const std::string_view> args) {
+ServerOptions parse_serve_args(std::span<const std::string_view> args) {
   ServerOptions o;
   std::optional<int> workers;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string_view flag = args[i];
-    if (i + 1 >= args.size())
-      throw UsageError("unknown option or missing value: " + std::string(flag));
-    std::string_view v = args[++i];
-    if (flag == "--bind")
-      o.bind = v;
-    else if (flag == "--port") {
-      std::uintmax_t port = parse_amount(flag, v, 0, false);
-      if (port > 65535) throw UsageError("--port: at most 65535");
-      o.port = static_cast<unsigned short>(port);
-    } else if (flag == "--store")
-      o.node.store_url = v;
-    else if (flag == "--data-dir")
-      o.node.data_dir = v;
-    else if (flag == "--workers")
-      workers = int(std::min<std::uintmax_t>(64, parse_amount(flag, v, 0, false)));
-    else if (flag == "--max-queue")
-      o.node.store.max_queue = parse_amount(flag, v, 1, false);
-    else if (flag == "--assets")
-      o.node.api.files = o.node.runner.files = ImageFiles::sandbox(v);
-    else if (flag == "--keep-steps")
-      o.node.store.keep_steps =
-          int(std::min<std::uintmax_t>(100000, parse_amount(flag, v, 1, false)));
-    else if (flag == "--max-jobs")
-      o.node.store.retention.max_jobs = parse_amount(flag, v, 1, false);
-    else if (flag == "--max-bytes")
-      o.node.store.retention.max_bytes = parse_amount(flag, v, 1, true);
-    else if (flag == "--max-retextures")
-      o.max_retextures = int(std::min<std::uintmax_t>(4096, parse_amount(flag, v, 1, false)));
-    else if (flag == "--body-limit")
-      o.node.api.body_limit = parse_amount(flag, v, 1024, true);
-    else if (flag == "--max-connections")
-      o.max_connections = int(std::min<std::uintmax_t>(1'000'000, parse_amount(flag, v, 1, false)));
-    else if (flag == "--max-job-seconds")
-      o.node.api.max_job_seconds = double(parse_amount(flag, v, 1, false));
-    else if (flag == "--max-retexture-seconds")
-      o.node.api.max_retexture_seconds = double(parse_amount(flag, v, 1, false));
-    else if (flag == "--lease")
-      o.node.postgres.lease_s = double(parse_amount(flag, v, 1, false));
-    else if (flag == "--max-attempts")
-      o.node.postgres.max_attempts =
-          int(std::min<std::uintmax_t>(100, parse_amount(flag, v, 1, false)));
-    else if (flag == "--job-timeout")
-      o.node.runner.job_timeout_s = double(parse_amount(flag, v, 1, false));
-    else if (flag == "--retexture-timeout")
-      o.node.api.retexture_timeout_s = double(parse_amount(flag, v, 1, false));
-    else
-      throw UsageError("unknown option " + std::string(flag));
-  }
+  ArgParser p = node_flags(o.node, workers);
+  p.text({"--bind"}, o.bind)
+      .integer({"--port"}, o.port, 0, 65535)
+      .integer({"--max-retextures"}, o.max_retextures, 1, 4096)
+      .integer({"--body-limit"}, o.node.api.body_limit, 1024, INT64_MAX, true)
+      .integer({"--max-connections"}, o.max_connections, 1, 1'000'000)
+      .integer({"--max-job-seconds"}, o.node.api.max_job_seconds, 1, 1'000'000'000)
+      .integer({"--max-retexture-seconds"}, o.node.api.max_retexture_seconds, 1, 1'000'000'000)
+      .integer({"--retexture-timeout"}, o.node.api.retexture_timeout_s, 1, 1'000'000'000)
+      .parse(args);
   if (o.node.store_url.empty() && workers == 0)
     throw UsageError("--workers: at least 1 without --store (nothing else would solve)");
   o.node.workers = workers.value_or(o.node.store_url.empty() ? 1 : 0);
+  return o;
+}
+
+NodeOptions parse_worker_args(std::span<const std::string_view> args) {
+  NodeOptions o;
+  std::optional<int> workers;
+  ArgParser p = node_flags(o, workers);
+  for (const char* serve_only :
+       {"--bind", "--port", "--max-retextures", "--body-limit", "--max-connections",
+        "--max-job-seconds", "--max-retexture-seconds", "--retexture-timeout"})
+    p.custom({serve_only}, [](std::string_view flag, std::string_view) {
+      throw UsageError(std::string(flag) + " is for bumprad serve; a worker serves no HTTP");
+    });
+  p.parse(args);
+  if (o.store_url.empty())
+    throw UsageError("--store postgresql://... is required: a worker shares its store");
+  o.workers = workers.value_or(1);
+  if (o.workers < 1) throw UsageError("--workers: at least 1");
   return o;
 }
 
@@ -133,7 +114,7 @@ int serve_command(std::span<const std::string_view> args) {
   }
   ServerOptions options;
   try {
-    options = parse_args(args);
+    options = parse_serve_args(args);
   } catch (const UsageError& e) {
     std::cerr << "bumprad serve: " << e.what() << "\n" << kUsage;
     return 2;
@@ -153,17 +134,7 @@ int worker_command(std::span<const std::string_view> args) {
   }
   NodeOptions options;
   try {
-    for (std::size_t i = 0; i < args.size(); i += 2)
-      if (args[i] == "--bind" || args[i] == "--port" || args[i] == "--data-dir" ||
-          args[i].starts_with("--max-re") || args[i] == "--body-limit" ||
-          args[i] == "--max-connections" || args[i] == "--max-job-seconds")
-        throw UsageError(std::string(args[i]) + " is for bumprad serve; a worker serves no HTTP");
-    ServerOptions parsed = parse_args(args);
-    if (parsed.node.store_url.empty())
-      throw UsageError("--store postgresql://... is required: a worker shares its store");
-    options = parsed.node;
-    if (std::find(args.begin(), args.end(), "--workers") == args.end()) options.workers = 1;
-    if (options.workers < 1) throw UsageError("--workers: at least 1");
+    options = parse_worker_args(args);
   } catch (const UsageError& e) {
     std::cerr << "bumprad worker: " << e.what() << "\n" << kWorkerUsage;
     return 2;

@@ -14,6 +14,7 @@
 #include "clients/event_stream.h"
 #include "clients/http_client.h"
 #include "clients/progress_bar.h"
+#include "common/args.h"
 #include "common/atomic_file.h"
 #include "common/stopwatch.h"
 #include "protocol/job_json.h"
@@ -32,10 +33,6 @@ constexpr const char* kUsage =
     "  retexture ID --bump B.json -o OUT.(png|exr|jpg)   re-render with new bump functions\n"
     "  cancel ID                      cancel a queued or running job, or delete a finished one\n"
     "The server defaults to $BUMPRAD_SERVER, else http://127.0.0.1:8080.\n";
-
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // An answer that is not the one hoped for: the server's problem, said plainly.
 struct ServerError : std::runtime_error {
@@ -70,37 +67,16 @@ struct Args {
 
 Args parse(const std::vector<std::string>& args) {
   Args a;
-  auto value = [&](std::size_t& i) {
-    if (i + 1 >= args.size()) throw UsageError(args[i] + " needs a value");
-    return args[++i];
-  };
-  auto integer = [&](std::size_t& i) {
-    std::string flag = args[i], v = value(i);
-    char* end = nullptr;
-    long n = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end || n < 1 || n > 1'000'000)
-      throw UsageError(flag + ": \"" + v + "\" is not a whole number from 1 to 1000000");
-    return int(n);
-  };
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& s = args[i];
-    if (s == "--bump")
-      a.bump = value(i);
-    else if (s == "-o" || s == "--output")
-      a.output = value(i);
-    else if (s == "--out")
-      a.out_dir = value(i);
-    else if (s == "--shots")
-      a.shots = integer(i);
-    else if (s == "--preview-every")
-      a.preview_every = integer(i);
-    else if (s == "--watch")
-      a.watch = true;
-    else if (s.starts_with("-"))
-      throw UsageError("unknown option " + s);
-    else
-      a.positional.push_back(s);
-  }
+  const std::vector<std::string_view> views(args.begin(), args.end());
+  ArgParser()
+      .text({"--bump"}, a.bump)
+      .text({"-o", "--output"}, a.output)
+      .text({"--out"}, a.out_dir)
+      .integer({"--shots"}, a.shots, 1, 1'000'000)
+      .integer({"--preview-every"}, a.preview_every, 1, 1'000'000)
+      .toggle({"--watch"}, a.watch)
+      .positional(a.positional)
+      .parse(views);
   return a;
 }
 

@@ -110,7 +110,7 @@ TEST_F(RenderCli, UsageErrors) {
   EXPECT_NE(r.output.find("--hemicube: must be even"), std::string::npos) << r.output;
   r = run("render builtin:cornell -o " + path("x.png") + " --shots many");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("--shots: \"many\" is not an integer"), std::string::npos);
+  EXPECT_NE(r.output.find("--shots: \"many\" is not a whole number"), std::string::npos);
   r = run("render builtin:cornell -o " + path("x.png") + " --tolerance tight");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("--tolerance: \"tight\" is not a number"), std::string::npos);
