@@ -77,10 +77,17 @@ Response png_answer(const Request& request, std::string png, int step, bool immu
   return res;
 }
 
-Response method_not_allowed(const Request& request, std::string_view allowed) {
-  Response res = problem(
-      request, http::status::method_not_allowed, "Method not allowed",
-      std::string(request.method_string()) + " is not allowed here; use " + std::string(allowed));
+// 405 with the Allow header that lists what the route answers.
+Response method_not_allowed(const Request& request, const std::vector<http::verb>& methods) {
+  std::string allowed;
+  for (http::verb v : methods) {
+    if (!allowed.empty()) allowed += ", ";
+    allowed += std::string(http::to_string(v));
+    if (v == http::verb::get) allowed += ", HEAD";
+  }
+  Response res =
+      problem(request, http::status::method_not_allowed, "Method not allowed",
+              std::string(request.method_string()) + " is not allowed here; use " + allowed);
   res.set(http::field::allow, allowed);
   return res;
 }
@@ -151,185 +158,302 @@ Routed Api::handle(const Request& request) {
   return routed;
 }
 
+// The route table: one row per pattern and method. Web assets are served from their own
+// literal paths, checked first (route()).
+std::span<const Api::Route> Api::route_table() {
+  using V = http::verb;
+  static const Route kRoutes[] = {
+      {"/healthz", V::get, &Api::health},
+      {"/metrics", V::get, &Api::metrics},
+      {"/v1/scenes", V::get, &Api::scenes},
+      {"/v1/scenes/{name}", V::get, &Api::scene},
+      {"/v1/validate", V::post, &Api::validate_job},
+      {"/v1/jobs", V::get, &Api::jobs},
+      {"/v1/jobs", V::post, &Api::submit_job},
+      {"/v1/jobs/{id}", V::get, &Api::job},
+      {"/v1/jobs/{id}", V::delete_, &Api::delete_job},
+      {"/v1/jobs/{id}/retexture", V::post, &Api::retexture_job},
+      {"/v1/jobs/{id}/stream", V::get, &Api::job_events},
+      {"/v1/jobs/{id}/events", V::get, &Api::job_events},
+      {"/v1/jobs/{id}/steps/{n}.png", V::get, &Api::job_step},
+      {"/v1/jobs/{id}/preview", V::get, &Api::job_preview},
+      {"/v1/jobs/{id}/scene", V::get, &Api::job_scene},
+      {"/v1/jobs/{id}/solution", V::get, &Api::job_solution},
+      {"/v1/jobs/{id}/image", V::get, &Api::job_image},
+  };
+  return kRoutes;
+}
+
+namespace {
+
+// Whether `path` fits `pattern`, segment by segment; the {name} segments' values go to
+// `params`. A {name} may be followed by a literal suffix within its segment ("{n}.png").
+bool match(std::string_view pattern, std::string_view path,
+           std::vector<std::pair<std::string_view, std::string_view>>& params) {
+  params.clear();
+  const auto want = split_path(pattern), got = split_path(path);
+  if (want.size() != got.size() || (path == "/") != (pattern == "/")) return false;
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    const std::string_view w = want[i], g = got[i];
+    if (!w.starts_with('{')) {
+      if (w != g) return false;
+      continue;
+    }
+    const std::size_t close = w.find('}');
+    const std::string_view suffix = w.substr(close + 1);
+    if (g.size() <= suffix.size() || !g.ends_with(suffix)) return false;
+    params.emplace_back(w.substr(1, close - 1), g.substr(0, g.size() - suffix.size()));
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<RouteSpec> Api::routes() {
+  std::vector<RouteSpec> out;
+  for (const WebAsset& asset : web_assets()) out.push_back({asset.path, {http::verb::get}});
+  for (const Route& r : route_table()) {
+    if (out.empty() || out.back().pattern != r.pattern) out.push_back({r.pattern, {}});
+    out.back().methods.push_back(r.method);
+  }
+  return out;
+}
+
+std::string_view Api::Call::param(std::string_view name) const {
+  for (const auto& [key, value] : params)
+    if (key == name) return value;
+  return {};
+}
+
 Routed Api::route(const Request& request) {
   std::string_view target = request.target();
   std::string_view path = target.substr(0, target.find('?'));
-  std::string_view query =
-      target.find('?') == std::string_view::npos ? "" : target.substr(target.find('?') + 1);
-  const auto parts = split_path(path);
-  const http::verb method = request.method();
+  Call call{request, {}, {}, ""};
+  if (target.find('?') != std::string_view::npos) call.query = target.substr(target.find('?') + 1);
   // HEAD is answered as GET; handle() drops the body.
-  const bool get = method == http::verb::get || method == http::verb::head;
-
-  if (auto asset = find_web_asset(path)) {
-    if (!get) return {std::string(path), method_not_allowed(request, "GET, HEAD")};
-    std::string type(asset->content_type);
-    if (type.starts_with("text/")) type += "; charset=utf-8";
-    return {std::string(path), answer(request, http::status::ok, type, std::string(asset->body))};
+  const http::verb method =
+      request.method() == http::verb::head ? http::verb::get : request.method();
+  std::vector<http::verb> allowed;
+  for (const WebAsset& asset : web_assets())
+    if (asset.path == path) {
+      call.pattern = asset.path;
+      if (method == http::verb::get) return web_asset(call);
+      allowed = {http::verb::get};
+    }
+  for (const Route& r : allowed.empty() ? route_table() : std::span<const Route>{}) {
+    if (!match(r.pattern, path, call.params)) continue;
+    call.pattern = r.pattern;
+    if (r.method != method) {
+      allowed.push_back(r.method);
+      continue;
+    }
+    if (auto* plain = std::get_if<Handler>(&r.handler)) return (this->*(*plain))(call);
+    return with_job(call, std::get<JobHandler>(r.handler));
   }
-  if (path == "/healthz") {
-    if (!get) return {"/healthz", method_not_allowed(request, "GET, HEAD")};
-    if (auto trouble = store_.health())
-      return {"/healthz", json_answer(request, http::status::service_unavailable,
-                                      R"({"status":"unavailable","store":)" +
-                                          nlohmann::json(valid_utf8(*trouble)).dump() + "}")};
-    return {"/healthz", json_answer(request, http::status::ok, R"({"status":"ok","store":"ok"})")};
-  }
-  if (path == "/metrics") {
-    if (!get) return {"/metrics", method_not_allowed(request, "GET, HEAD")};
-    Metrics::Gauges gauges;
-    gauges.store_up = !store_.health();
-    if (gauges.store_up) gauges.jobs_by_state = store_.counts().jobs_by_state;
-    gauges.queue_capacity = store_.options().max_queue;
-    gauges.workers = workers_;
-    return {"/metrics", answer(request, http::status::ok, "text/plain; version=0.0.4",
-                               metrics_.prometheus(gauges))};
-  }
-  if (path == "/v1/scenes") {
-    if (!get) return {"/v1/scenes", method_not_allowed(request, "GET, HEAD")};
-    return {"/v1/scenes", json_answer(request, http::status::ok, builtin_scenes_json())};
-  }
-  if (path == "/v1/jobs") {
-    if (get)
-      return {"/v1/jobs", json_answer(request, http::status::ok, jobs_to_json(store_.list()))};
-    if (method != http::verb::post)
-      return {"/v1/jobs", method_not_allowed(request, "GET, HEAD, POST")};
-    return {"/v1/jobs",
-            DeferredRequest{DeferredRequest::Pool::Parse,
-                            [this](const Request& r, std::stop_source) { return submit(r); }}};
-  }
-
-  if (path == "/v1/validate") {
-    if (method != http::verb::post) return {"/v1/validate", method_not_allowed(request, "POST")};
-    return {"/v1/validate",
-            DeferredRequest{DeferredRequest::Pool::Parse,
-                            [this](const Request& r, std::stop_source) { return validate(r); }}};
-  }
-  if (parts.size() == 3 && parts[0] == "v1" && parts[1] == "scenes") {
-    if (!get) return {"/v1/scenes/{name}", method_not_allowed(request, "GET, HEAD")};
-    auto text = find_builtin_scene(parts[2]);
-    if (!text)
-      return {"/v1/scenes/{name}", problem(request, http::status::not_found, "Not found",
-                                           "no built-in scene \"" + std::string(parts[2]) +
-                                               "\" (GET /v1/scenes lists them)")};
-    return {"/v1/scenes/{name}", json_answer(request, http::status::ok, std::string(*text))};
-  }
-  if (parts.size() < 3 || parts[0] != "v1" || parts[1] != "jobs")
+  if (allowed.empty())
     return {"(unknown)", problem(request, http::status::not_found, "Not found",
                                  "no such resource: " + std::string(path))};
-  const std::string id(parts[2]);
-  const std::optional<JobRecord> found = is_valid_job_id(id) ? store_.find(id) : std::nullopt;
-  const std::string sub = parts.size() > 3 ? std::string(parts[3]) : "";
-  const std::string route = "/v1/jobs/{id}" + (sub.empty() ? "" : "/" + sub);
-  auto not_found = [&] {
-    return Routed{route, problem(request, http::status::not_found, "Not found",
-                                 "no job with id \"" + id + "\"")};
-  };
-  if (!found || parts.size() > 5 || (parts.size() == 5 && sub != "steps")) return not_found();
-  const JobRecord& record = *found;
-  auto not_done = [&](std::string_view what) {
-    return Routed{route, problem(request, http::status::conflict, "Job not done",
-                                 "job " + id + " is " + std::string(to_string(record.state)) +
-                                     "; " + std::string(what) + " exists only for done jobs")};
-  };
+  return {std::string(call.pattern), method_not_allowed(request, allowed)};
+}
 
-  if (sub.empty()) {
-    if (get) return {route, json_answer(request, http::status::ok, job_to_json(record))};
-    if (method != http::verb::delete_)
-      return {route, method_not_allowed(request, "GET, HEAD, DELETE")};
-    switch (store_.cancel_or_delete(id)) {
-      case Store::Removal::Cancelled:
-        return {route, json_answer(request, http::status::accepted,
-                                   job_to_json(store_.find(id).value_or(record)))};
-      case Store::Removal::Deleted:
-        return {route, answer(request, http::status::no_content, "application/json", "")};
-      case Store::Removal::Unknown:
-        return not_found();
+Routed Api::web_asset(const Call& call) {
+  for (const WebAsset& asset : web_assets())
+    if (asset.path == call.pattern) {
+      std::string type(asset.content_type);
+      if (type.starts_with("text/")) type += "; charset=utf-8";
+      return {std::string(asset.path),
+              answer(call.request, http::status::ok, type, std::string(asset.body))};
     }
+  return {"(unknown)", problem(call.request, http::status::not_found, "Not found", "no such file")};
+}
+
+Routed Api::health(const Call& call) {
+  if (auto trouble = store_.health())
+    return {"/healthz", json_answer(call.request, http::status::service_unavailable,
+                                    R"({"status":"unavailable","store":)" +
+                                        nlohmann::json(valid_utf8(*trouble)).dump() + "}")};
+  return {"/healthz",
+          json_answer(call.request, http::status::ok, R"({"status":"ok","store":"ok"})")};
+}
+
+Routed Api::metrics(const Call& call) {
+  Metrics::Gauges gauges;
+  gauges.store_up = !store_.health();
+  if (gauges.store_up) gauges.jobs_by_state = store_.counts().jobs_by_state;
+  gauges.queue_capacity = store_.options().max_queue;
+  gauges.workers = workers_;
+  return {"/metrics", answer(call.request, http::status::ok, "text/plain; version=0.0.4",
+                             metrics_.prometheus(gauges))};
+}
+
+Routed Api::scenes(const Call& call) {
+  return {"/v1/scenes", json_answer(call.request, http::status::ok, builtin_scenes_json())};
+}
+
+Routed Api::scene(const Call& call) {
+  const std::string_view name = call.param("name");
+  auto text = find_builtin_scene(name);
+  if (!text)
+    return {"/v1/scenes/{name}",
+            problem(call.request, http::status::not_found, "Not found",
+                    "no built-in scene \"" + std::string(name) + "\" (GET /v1/scenes lists them)")};
+  return {"/v1/scenes/{name}", json_answer(call.request, http::status::ok, std::string(*text))};
+}
+
+Routed Api::jobs(const Call& call) {
+  return {"/v1/jobs", json_answer(call.request, http::status::ok, jobs_to_json(store_.list()))};
+}
+
+Routed Api::submit_job(const Call&) {
+  return {"/v1/jobs",
+          DeferredRequest{DeferredRequest::Pool::Parse,
+                          [this](const Request& r, std::stop_source) { return submit(r); }}};
+}
+
+Routed Api::validate_job(const Call&) {
+  return {"/v1/validate",
+          DeferredRequest{DeferredRequest::Pool::Parse,
+                          [this](const Request& r, std::stop_source) { return validate(r); }}};
+}
+
+Routed Api::with_job(const Call& call, JobHandler then) {
+  const std::string id(call.param("id"));
+  const std::optional<JobRecord> found = is_valid_job_id(id) ? store_.find(id) : std::nullopt;
+  if (!found) return not_found(call);
+  return (this->*then)(call, *found);
+}
+
+Routed Api::not_found(const Call& call) const {
+  return {std::string(call.pattern),
+          problem(call.request, http::status::not_found, "Not found",
+                  "no job with id \"" + std::string(call.param("id")) + "\"")};
+}
+
+namespace {
+
+Routed not_done(const Request& request, std::string_view route, const JobRecord& record,
+                std::string_view what) {
+  return {std::string(route),
+          problem(request, http::status::conflict, "Job not done",
+                  "job " + record.id + " is " + std::string(to_string(record.state)) + "; " +
+                      std::string(what) + " exists only for done jobs")};
+}
+
+}  // namespace
+
+Routed Api::job(const Call& call, const JobRecord& record) {
+  return {std::string(call.pattern),
+          json_answer(call.request, http::status::ok, job_to_json(record))};
+}
+
+Routed Api::delete_job(const Call& call, const JobRecord& record) {
+  const std::string route(call.pattern);
+  switch (store_.cancel_or_delete(record.id)) {
+    case Store::Removal::Cancelled:
+      return {route, json_answer(call.request, http::status::accepted,
+                                 job_to_json(store_.find(record.id).value_or(record)))};
+    case Store::Removal::Deleted:
+      return {route, answer(call.request, http::status::no_content, "application/json", "")};
+    case Store::Removal::Unknown:
+      break;
   }
-  if (sub == "retexture") {
-    if (method != http::verb::post) return {route, method_not_allowed(request, "POST")};
-    if (record.state != JobState::Done) return not_done("a perturbed radiosity map");
-    // Parsing, loading a solution that is not in memory, and rendering all happen on the
-    // render pool: a network thread never waits for them.
-    return {route, DeferredRequest{DeferredRequest::Pool::Render,
-                                   [this, id](const Request& r, std::stop_source stop) {
-                                     return retexture(r, id, std::move(stop));
-                                   }}};
+  return not_found(call);
+}
+
+Routed Api::retexture_job(const Call& call, const JobRecord& record) {
+  if (record.state != JobState::Done)
+    return not_done(call.request, call.pattern, record, "a perturbed radiosity map");
+  // Parsing, loading a solution that is not in memory, and rendering all happen on the
+  // render pool: a network thread never waits for them.
+  return {std::string(call.pattern),
+          DeferredRequest{DeferredRequest::Pool::Render,
+                          [this, id = record.id](const Request& r, std::stop_source stop) {
+                            return retexture(r, id, std::move(stop));
+                          }}};
+}
+
+Routed Api::job_events(const Call& call, const JobRecord& record) {
+  auto job = live_.watch(record.id);
+  if (!job) return not_found(call);
+  const bool images = call.pattern.ends_with("/stream");
+  return {std::string(call.pattern),
+          StreamRequest{job, images ? StreamRequest::Kind::Images : StreamRequest::Kind::Events}};
+}
+
+Routed Api::step_answer(const Call& call, const JobRecord& record, int step, bool immutable) {
+  const std::string route(call.pattern);
+  if (step < 1 || step > record.step)
+    return {route, problem(call.request, http::status::not_found, "Not found",
+                           "job " + record.id + " has no step " + std::to_string(step) +
+                               " (steps 1.." + std::to_string(record.step) + " so far)")};
+  if (step < record.first_kept_step)
+    return {route, problem(call.request, http::status::gone, "Step dropped",
+                           "step " + std::to_string(step) + " is no longer kept (kept: " +
+                               std::to_string(record.first_kept_step) + ".." +
+                               std::to_string(record.step) + ")")};
+  auto png = store_.read_step(record.id, step);
+  if (!png)
+    return {route, problem(call.request, http::status::gone, "Step dropped",
+                           "step " + std::to_string(step) + " is no longer kept")};
+  return {route, png_answer(call.request, std::move(*png), step, immutable)};
+}
+
+Routed Api::job_step(const Call& call, const JobRecord& record) {
+  const auto step = to_int(call.param("n"));
+  if (!step) return not_found(call);
+  return step_answer(call, record, *step, true);
+}
+
+Routed Api::job_preview(const Call& call, const JobRecord& record) {
+  if (auto s = query_value(call.query, "step")) {
+    auto step = to_int(*s);
+    if (!step)
+      return {std::string(call.pattern),
+              problem(call.request, http::status::bad_request, "Bad query",
+                      "step must be an integer (got \"" + std::string(*s) + "\")", "step")};
+    return step_answer(call, record, *step, false);
   }
-  if (!get) return {route, method_not_allowed(request, "GET, HEAD")};
-  if (sub == "stream" || sub == "events") {
-    auto job = live_.watch(id);
-    if (!job) return not_found();
-    return {route, StreamRequest{job, sub == "stream" ? StreamRequest::Kind::Images
-                                                      : StreamRequest::Kind::Events}};
-  }
-  auto step_answer = [&](int step, bool immutable) -> Routed {
-    if (step < 1 || step > record.step)
-      return {route, problem(request, http::status::not_found, "Not found",
-                             "job " + id + " has no step " + std::to_string(step) + " (steps 1.." +
-                                 std::to_string(record.step) + " so far)")};
-    if (step < record.first_kept_step)
-      return {route, problem(request, http::status::gone, "Step dropped",
-                             "step " + std::to_string(step) + " is no longer kept (kept: " +
-                                 std::to_string(record.first_kept_step) + ".." +
-                                 std::to_string(record.step) + ")")};
-    auto png = store_.read_step(id, step);
-    if (!png)
-      return {route, problem(request, http::status::gone, "Step dropped",
-                             "step " + std::to_string(step) + " is no longer kept")};
-    return {route, png_answer(request, std::move(*png), step, immutable)};
-  };
-  if (sub == "steps") {
-    std::string_view name = parts.size() == 5 ? parts[4] : "";
-    auto step = name.ends_with(".png") ? to_int(name.substr(0, name.size() - 4)) : std::nullopt;
-    if (!step) return not_found();
-    return step_answer(*step, true);
-  }
-  if (sub == "preview") {
-    if (auto s = query_value(query, "step")) {
-      auto step = to_int(*s);
-      if (!step)
-        return {route,
-                problem(request, http::status::bad_request, "Bad query",
-                        "step must be an integer (got \"" + std::string(*s) + "\")", "step")};
-      return step_answer(*step, false);
-    }
-    auto png = record.step > 0 ? store_.read_step(id, record.step) : std::nullopt;
-    if (!png)
-      return {route, problem(request, http::status::not_found, "No preview yet",
-                             "job " + id + " is " + std::string(to_string(record.state)) +
-                                 " and has no refinement step yet")};
-    return {route, png_answer(request, std::move(*png), record.step, false)};
-  }
-  if (sub == "scene") {
-    auto text = store_.read(id, Artifact::Scene);
-    if (!text) return not_found();
-    return {route, json_answer(request, http::status::ok, std::move(*text))};
-  }
-  if (sub == "solution") {
-    if (record.state != JobState::Done) return not_done("the solution file");
-    auto bytes = store_.read(id, Artifact::Solution);
-    if (!bytes) return not_found();
-    store_.touch(id);
-    Response res = answer(request, http::status::ok, "application/octet-stream", std::move(*bytes));
-    res.set(http::field::content_disposition, "attachment; filename=\"" + id + ".bumprad\"");
-    return {route, std::move(res)};
-  }
-  if (sub == "image") {
-    std::string_view format = query_value(query, "format").value_or("png");
-    if (format != "png" && format != "exr")
-      return {route,
-              problem(request, http::status::bad_request, "Bad query",
-                      "format must be png or exr (got \"" + std::string(format) + "\")", "format")};
-    if (record.state != JobState::Done) return not_done("the final image");
-    ImageFormat f = format == "png" ? ImageFormat::Png : ImageFormat::Exr;
-    auto bytes = store_.read(id, f == ImageFormat::Png ? Artifact::Png : Artifact::Exr);
-    if (!bytes) return not_found();
-    store_.touch(id);
-    return {route, answer(request, http::status::ok, mime_type(f), std::move(*bytes))};
-  }
-  return not_found();
+  auto png = record.step > 0 ? store_.read_step(record.id, record.step) : std::nullopt;
+  if (!png)
+    return {std::string(call.pattern),
+            problem(call.request, http::status::not_found, "No preview yet",
+                    "job " + record.id + " is " + std::string(to_string(record.state)) +
+                        " and has no refinement step yet")};
+  return {std::string(call.pattern), png_answer(call.request, std::move(*png), record.step, false)};
+}
+
+Routed Api::job_scene(const Call& call, const JobRecord& record) {
+  auto text = store_.read(record.id, Artifact::Scene);
+  if (!text) return not_found(call);
+  return {std::string(call.pattern), json_answer(call.request, http::status::ok, std::move(*text))};
+}
+
+Routed Api::job_solution(const Call& call, const JobRecord& record) {
+  if (record.state != JobState::Done)
+    return not_done(call.request, call.pattern, record, "the solution file");
+  auto bytes = store_.read(record.id, Artifact::Solution);
+  if (!bytes) return not_found(call);
+  store_.touch(record.id);
+  Response res =
+      answer(call.request, http::status::ok, "application/octet-stream", std::move(*bytes));
+  res.set(http::field::content_disposition, "attachment; filename=\"" + record.id + ".bumprad\"");
+  return {std::string(call.pattern), std::move(res)};
+}
+
+Routed Api::job_image(const Call& call, const JobRecord& record) {
+  std::string_view format = query_value(call.query, "format").value_or("png");
+  if (format != "png" && format != "exr")
+    return {std::string(call.pattern),
+            problem(call.request, http::status::bad_request, "Bad query",
+                    "format must be png or exr (got \"" + std::string(format) + "\")", "format")};
+  if (record.state != JobState::Done)
+    return not_done(call.request, call.pattern, record, "the final image");
+  ImageFormat f = format == "png" ? ImageFormat::Png : ImageFormat::Exr;
+  auto bytes = store_.read(record.id, f == ImageFormat::Png ? Artifact::Png : Artifact::Exr);
+  if (!bytes) return not_found(call);
+  store_.touch(record.id);
+  return {std::string(call.pattern),
+          answer(call.request, http::status::ok, mime_type(f), std::move(*bytes))};
 }
 
 Api::Accepted Api::accept(const Request& request) const {

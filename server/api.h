@@ -5,9 +5,11 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <stop_token>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include <boost/beast/http.hpp>
 
@@ -56,6 +58,14 @@ struct ApiLimits {
   double retexture_timeout_s = 60;    // wall clock, then 503
 };
 
+// One route of the API: its path pattern ("{name}" stands for one path segment, or its
+// start before a literal suffix, as in "{n}.png") and the methods it answers (GET also
+// answers HEAD). The pattern names the route in metrics and logs.
+struct RouteSpec {
+  std::string_view pattern;
+  std::vector<http::verb> methods;
+};
+
 class Api {
  public:
   // `workers`: solver threads in this process, for /metrics (0 on an API-only node).
@@ -74,8 +84,51 @@ class Api {
 
   const ApiLimits& limits() const { return limits_; }
 
+  // Every route the API answers, the web viewer's files included (from the route table,
+  // which also gives the Allow headers and 405s).
+  static std::vector<RouteSpec> routes();
+
  private:
+  // A request matched to a route: the values of the pattern's {name} segments.
+  struct Call {
+    const Request& request;
+    std::string_view pattern;
+    std::vector<std::pair<std::string_view, std::string_view>> params;
+    std::string_view query;
+    std::string_view param(std::string_view name) const;
+  };
+  using Handler = Routed (Api::*)(const Call&);
+  using JobHandler = Routed (Api::*)(const Call&, const JobRecord&);
+  struct Route {
+    std::string_view pattern;
+    http::verb method;
+    std::variant<Handler, JobHandler> handler;
+  };
+  static std::span<const Route> route_table();
+
   Routed route(const Request& request);
+  Routed web_asset(const Call& call);
+  Routed health(const Call& call);
+  Routed metrics(const Call& call);
+  Routed scenes(const Call& call);
+  Routed scene(const Call& call);
+  Routed jobs(const Call& call);
+  Routed submit_job(const Call& call);
+  Routed validate_job(const Call& call);
+  // Finds the job the call's {id} names, then answers with `then`; 404 if there is none.
+  Routed with_job(const Call& call, JobHandler then);
+  Routed not_found(const Call& call) const;
+  Routed job(const Call& call, const JobRecord& record);
+  Routed delete_job(const Call& call, const JobRecord& record);
+  Routed retexture_job(const Call& call, const JobRecord& record);
+  Routed job_events(const Call& call, const JobRecord& record);
+  Routed job_step(const Call& call, const JobRecord& record);
+  Routed job_preview(const Call& call, const JobRecord& record);
+  Routed job_scene(const Call& call, const JobRecord& record);
+  Routed job_solution(const Call& call, const JobRecord& record);
+  Routed job_image(const Call& call, const JobRecord& record);
+  // A step's PNG, or why there is none.
+  Routed step_answer(const Call& call, const JobRecord& record, int step, bool immutable);
   // A job request parsed, validated and within the cost limit; throws SceneError.
   struct Accepted {
     JobRequest job;

@@ -2,7 +2,7 @@
 // description (protocol/openapi.json), compiled in so the binary is whole.
 #pragma once
 
-#include <optional>
+#include <span>
 #include <string_view>
 
 namespace bumprad {
@@ -13,6 +13,6 @@ struct WebAsset {
   std::string_view body;
 };
 
-std::optional<WebAsset> find_web_asset(std::string_view path);
+std::span<const WebAsset> web_assets();
 
 }  // namespace bumprad

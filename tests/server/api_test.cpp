@@ -2,9 +2,13 @@
 // is deferred off the network threads, and what a stopped re-texture says.
 #include "server/api.h"
 
+#include <algorithm>
+#include <set>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "server/web_assets.h"
 #include "tests/server/in_process.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"
@@ -42,6 +46,62 @@ TEST(Api, SubmitsAreParsedOffTheNetworkThreadAndRun) {
   Routed stream = s.api.handle(request(verb::head, "/v1/jobs/" + id + "/events"));
   ASSERT_TRUE(std::holds_alternative<Response>(stream.action));
   EXPECT_EQ(std::get<Response>(stream.action)[http::field::content_type], "text/event-stream");
+}
+
+// The route table is the API that protocol/openapi.json describes: the same paths, each
+// with the same methods; the table has more only for the viewer's own files (GET).
+TEST(Api, TheRouteTableIsTheOpenApiDescription) {
+  std::string_view text;
+  for (const WebAsset& asset : web_assets())
+    if (asset.path == "/v1/openapi") text = asset.body;
+  const json paths = json::parse(text)["paths"];
+  std::set<std::string> described;
+  for (const auto& [path, operations] : paths.items()) {
+    described.insert(path);
+    std::set<std::string> methods;
+    for (const auto& [name, operation] : operations.items())
+      if (name != "parameters") methods.insert(name);
+    std::set<std::string> routed;
+    for (const RouteSpec& r : Api::routes())
+      if (r.pattern == path)
+        for (verb v : r.methods) {
+          std::string name(http::to_string(v));
+          std::transform(name.begin(), name.end(), name.begin(), ::tolower);
+          routed.insert(name);
+        }
+    EXPECT_EQ(routed, methods) << path;
+  }
+  for (const RouteSpec& r : Api::routes()) {
+    if (described.contains(std::string(r.pattern))) continue;
+    bool asset = false;
+    for (const WebAsset& a : web_assets()) asset = asset || a.path == r.pattern;
+    EXPECT_TRUE(asset) << r.pattern << " is routed but not in openapi.json";
+    EXPECT_EQ(r.methods, std::vector<verb>{verb::get}) << r.pattern;
+  }
+}
+
+// Every route answers a method it does not take with 405 and an Allow header from the table.
+TEST(Api, MethodsARouteDoesNotTakeGet405WithTheTablesAllow) {
+  test::InProcessServer s(test::fresh_temp_dir("api-405"));
+  struct Case {
+    verb method;
+    const char* target;
+    const char* allow;
+  };
+  for (const Case& c :
+       {Case{verb::put, "/v1/jobs", "GET, HEAD, POST"},
+        Case{verb::post, "/v1/jobs/abc", "GET, HEAD, DELETE"},
+        Case{verb::get, "/v1/jobs/abc/retexture", "POST"},
+        Case{verb::delete_, "/v1/jobs/abc/steps/3.png", "GET, HEAD"},
+        Case{verb::post, "/healthz", "GET, HEAD"}, Case{verb::get, "/v1/validate", "POST"},
+        Case{verb::post, "/", "GET, HEAD"}}) {
+    const Response r = s.answer(request(c.method, c.target, ""));
+    EXPECT_EQ(r.result_int(), 405) << c.target;
+    EXPECT_EQ(r[http::field::allow], c.allow) << c.target;
+  }
+  EXPECT_EQ(s.answer(request(verb::get, "/v1/jobs/abc/bogus", "")).result_int(), 404);
+  EXPECT_EQ(s.answer(request(verb::get, "/v1/jobs/abc/steps/x.png", "")).result_int(), 404);
+  EXPECT_EQ(s.answer(request(verb::get, "/v1/jobs/abc/steps/.png", "")).result_int(), 404);
 }
 
 // solver.tolerance travels from the request to the solve, and the estimate back to the job.

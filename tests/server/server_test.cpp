@@ -241,7 +241,8 @@ TEST(Server, BadRequestsGetProblemDetailsAndTheServerCarriesOn) {
   expect_problem(c.request("POST", "/v1/jobs", bad.dump()), 422, "cannot be named here",
                  "/scene/bumps/wrinkles/file");
   expect_problem(c.get("/v2/jobs"), 404, "no such resource");
-  expect_problem(c.get("/v1/jobs/../../etc"), 404, "no job with id");
+  expect_problem(c.get("/v1/jobs/../../etc"), 404, "no such resource");
+  expect_problem(c.get("/v1/jobs/..%2F..%2Fetc"), 404, "no job with id");
   expect_problem(c.get("/v1/jobs/0123456789abcdef"), 404, "no job with id");
   HttpResponse wrong = c.request("PUT", "/v1/jobs");
   expect_problem(wrong, 405, "PUT is not allowed");
