@@ -9,7 +9,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <random>
 #include <sstream>
 #include <system_error>
 
@@ -72,22 +71,6 @@ void log_state(const JobRecord& j) {
 }
 
 }  // namespace
-
-std::string new_job_id() {
-  static thread_local std::mt19937_64 random{std::random_device{}()};
-  const char* hex = "0123456789abcdef";
-  std::uint64_t bits = random();
-  std::string id(16, '0');
-  for (char& c : id) {
-    c = hex[bits & 15];
-    bits >>= 4;
-  }
-  return id;
-}
-
-bool is_valid_job_id(std::string_view id) {
-  return id.size() == 16 && id.find_first_not_of("0123456789abcdef") == std::string_view::npos;
-}
 
 DirectoryStore::DirectoryStore(fs::path data_dir, StoreOptions options)
     : jobs_(data_dir / "jobs"), options_(options), retention_(options.retention) {
@@ -210,27 +193,19 @@ Store::Submitted DirectoryStore::submit(const JobRecord& record, std::string_vie
     std::lock_guard lock(mutex_);
     if (!key.empty()) {
       auto pending = pending_keys_.find(key);
-      if (pending != pending_keys_.end()) {
-        if (pending->second.second != scene_json)
-          throw KeyReused("this Idempotency-Key was used for another job");
-        return {pending->second.first, false};
-      }
+      if (pending != pending_keys_.end())
+        return resubmitted(pending->second.first, pending->second.second, scene_json);
       for (const auto& [id, e] : entries_)
         if (e.idempotency_key == key) earlier = e.record;
     }
     if (!earlier) {
-      if (waiting_.size() + pending_ >= options_.max_queue)
-        throw QueueFull(std::to_string(waiting_.size() + pending_) +
-                        " jobs are already waiting (the limit)");
+      check_queue(waiting_.size() + pending_);
       ++pending_;
       if (!key.empty()) pending_keys_[key] = {record, std::string(scene_json)};
     }
   }
-  if (earlier) {  // the same job only if it was the same scene
-    if (read(earlier->id, Artifact::Scene) != std::optional<std::string>(scene_json))
-      throw KeyReused("this Idempotency-Key was used for another job");
-    return {*earlier, false};
-  }
+  if (earlier)
+    return resubmitted(*earlier, read(earlier->id, Artifact::Scene).value_or(""), scene_json);
   auto done_pending = [&] {
     std::lock_guard lock(mutex_);
     --pending_;
@@ -330,7 +305,7 @@ Store::Lease DirectoryStore::progress(const std::string&, JobRecord& record, std
     const int step = now->step + 1;
     writing("step " + std::to_string(step),
             [&] { write_file_atomically(step_path(record.id, step), png); });
-    const int first = std::max(1, step - options_.keep_steps + 1);
+    const int first = first_kept_step(step);
     std::error_code ignored;
     for (int s = std::max(1, now->first_kept_step); s < first; ++s)
       fs::remove(step_path(record.id, s), ignored);

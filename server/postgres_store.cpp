@@ -185,18 +185,15 @@ Store::Submitted PostgresStore::submit(const JobRecord& record, std::string_view
       pqxx::result earlier =
           tx.exec_params("SELECT record, scene_json FROM jobs WHERE idempotency_key = $1",
                          std::string(idempotency_key));
-      if (!earlier.empty()) {
-        if (earlier[0][1].as<std::string>() != scene_json)
-          throw KeyReused("this Idempotency-Key was used for another job");
-        return {job_from_json(earlier[0][0].as<std::string>()), false};
-      }
+      if (!earlier.empty())
+        return resubmitted(job_from_json(earlier[0][0].as<std::string>()),
+                           earlier[0][1].as<std::string>(), scene_json);
     }
     // Counted without a lock, so nodes submitting at the same moment may pass the limit by
     // a few: it bounds the backlog, not an invariant.
     const auto waiting =
         tx.exec1("SELECT count(*) FROM jobs WHERE state = 'queued'")[0].as<std::size_t>();
-    if (waiting >= options_.max_queue)
-      throw QueueFull(std::to_string(waiting) + " jobs are already waiting (the limit)");
+    check_queue(waiting);
     pqxx::result inserted = tx.exec_params(
         "INSERT INTO jobs (id, state, record, created, scene_json, idempotency_key) "
         "VALUES ($1, 'queued', $2, $3, $4, nullif($5, '')) "
@@ -207,9 +204,8 @@ Store::Submitted PostgresStore::submit(const JobRecord& record, std::string_view
       pqxx::row earlier =
           tx.exec_params1("SELECT record, scene_json FROM jobs WHERE idempotency_key = $1",
                           std::string(idempotency_key));
-      if (earlier[1].as<std::string>() != scene_json)
-        throw KeyReused("this Idempotency-Key was used for another job");
-      return {job_from_json(earlier[0].as<std::string>()), false};
+      return resubmitted(job_from_json(earlier[0].as<std::string>()), earlier[1].as<std::string>(),
+                         scene_json);
     }
     notify(tx, "queued", record.id);
     return {record, true};
@@ -321,7 +317,7 @@ Store::Lease PostgresStore::progress(const std::string& worker, JobRecord& recor
   JobRecord next = record;
   if (!png.empty()) {
     next.step = record.step + 1;
-    next.first_kept_step = std::max(1, next.step - options_.keep_steps + 1);
+    next.first_kept_step = first_kept_step(next.step);
   }
   const Lease lease = in_transaction(*pool_, [&](pqxx::work& tx) {
     pqxx::result held = tx.exec_params(

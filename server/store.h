@@ -4,6 +4,7 @@
 // PostgresStore (any number of API nodes and worker processes sharing one database).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -122,6 +123,16 @@ class Store {
  protected:
   // Hands `event` to every listener, outside the lock that guards the list.
   void emit(const JobEvent& event);
+
+  // The policy every store applies, written once.
+  // The oldest step kept once `step` is the newest: the newest keep_steps of them.
+  int first_kept_step(int step) const { return std::max(1, step - options().keep_steps + 1); }
+  // Throws QueueFull when `waiting` jobs (queued, or being submitted) already wait.
+  void check_queue(std::size_t waiting) const;
+  // The answer to a submission whose Idempotency-Key an earlier submission used: the earlier
+  // job, not created again, if it came with the same scene; KeyReused if not.
+  static Submitted resubmitted(JobRecord earlier, std::string_view earlier_scene,
+                               std::string_view scene_json);
 
  private:
   std::mutex listeners_mutex_;

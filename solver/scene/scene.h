@@ -62,8 +62,9 @@ struct ColorTexture {
 };
 
 // Diffuse albedo rho and emitted radiosity E (W/m^2, i.e. pi times the radiance).
-// `specular` (k_s) and `shininess` are carried for the non-diffuse pass; until that pass
-// exists the specular fraction is absorbed.
+// `specular` (k_s) and `shininess` (Phong's exponent) make a surface non-diffuse: the solve
+// reflects k_s of the light it receives along the lobe (the paper's first pass, eq. 4-6) and
+// the view pass traces its reflections (the second).
 struct Material {
   std::string name;
   Rgb reflectance{0.5, 0.5, 0.5};
