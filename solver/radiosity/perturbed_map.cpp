@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/radiosity/vertex_radiosity.h"
+#include "solver/scene/geometry.h"
 
 namespace bumprad {
 namespace {
@@ -96,7 +97,7 @@ void PerturbedMap::gather(const std::vector<Material>& materials, std::span<cons
     for (int k = 0; k < mesh_.elements[e].vertex_count; ++k)
       material[std::size_t(vertex_slot_[mesh_.elements[e].v[k]])] = mesh_.elements[e].material;
 
-  const double lift = mesh_.diagonal() * 1e-6;
+  const double lift = hemicube_lift(mesh_);
   std::vector<Rgb> in(n);
   for (std::uint32_t slot = 0; slot < slot_vertex_.size() && !stop.stop_requested(); ++slot) {
     const Vertex& v = mesh_.vertices[slot_vertex_[slot]];

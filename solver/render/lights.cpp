@@ -27,20 +27,6 @@ double power_heuristic(double a, double b) {
 
 }  // namespace
 
-std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials) {
-  std::vector<bool> mirror(mesh.surface_count, true);
-  std::vector<std::vector<std::uint32_t>> elements(mesh.surface_count);
-  for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
-    const Element& e = mesh.elements[i];
-    const Material& m = materials[std::size_t(e.material)];
-    mirror[e.surface] = mirror[e.surface] && m.specular > 0 && m.shininess == 0;
-    elements[e.surface].push_back(i);
-  }
-  for (std::uint32_t s = 0; s < mesh.surface_count; ++s)
-    mirror[s] = mirror[s] && !elements[s].empty() && coplanar(mesh, elements[s], kOnePlane);
-  return mirror;
-}
-
 Lights::Lights(const Mesh& mesh, std::span<const Material> materials)
     : mesh_(mesh), epsilon_(ray_epsilon(mesh)) {
   const std::vector<bool> mirror = planar_mirrors(mesh, materials);

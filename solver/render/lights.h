@@ -11,6 +11,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/phong_lobe.h"
 #include "solver/scene/ray_scene.h"
@@ -18,10 +19,6 @@
 #include "solver/util/random.h"
 
 namespace bumprad {
-
-// Per mesh surface: is it a planar mirror (k_s > 0, shininess 0, all its elements in one
-// plane)? Light from an emitter's image in one is direct light.
-std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials);
 
 class Lights {
  public:

@@ -11,6 +11,7 @@
 #include <glm/vec2.hpp>
 
 #include "solver/scene/mesh.h"
+#include "solver/scene/scene.h"
 
 namespace bumprad {
 
@@ -47,6 +48,11 @@ SurfaceAt surface_at(const Mesh& mesh, const Element& element, double u, double 
 // above its floor.
 double ray_epsilon(const Mesh& mesh);
 
+// How far a hemi-cube's eye sits off its surface: 1e-6 of the scene diagonal. The item
+// buffer's depth test, in the hemi-cube's own frame, judges what it sees, not Embree, so it
+// needs no more than to leave the plane it stands on.
+double hemicube_lift(const Mesh& mesh);
+
 // How far two elements may stray from one plane and still count as in it: their unit
 // normals by the length of their difference, their corners by distance from the first
 // one's plane through its centroid, in scene diagonals (at least 1).
@@ -63,5 +69,9 @@ inline constexpr Flatness kNearlyFlat{0.0141, 1e300};
 // Whether the elements (indices into mesh.elements, at least one) lie in one plane within
 // `tolerance`.
 bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatness tolerance);
+
+// Per mesh surface: is it a planar mirror (k_s > 0, shininess 0, all its elements in one
+// plane)? Light from an emitter's image in one is direct light.
+std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials);
 
 }  // namespace bumprad

@@ -1,0 +1,329 @@
+#include "solver/radiosity/shot_form_factors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <future>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+
+#include "solver/radiosity/form_factor_exact.h"
+#include "solver/radiosity/ray_cast_form_factor.h"
+#include "solver/scene/geometry.h"
+#include "solver/util/parallel.h"
+
+namespace bumprad {
+namespace {
+
+// Receivers closer than this many shooter sizes (sqrt of the patch area) are near field.
+constexpr double kNearField = 3.0;
+double near_field_radius(const Patch& patch) {
+  return kNearField * std::sqrt(patch.area);
+}
+
+// Shadow rays start and end this far (in scene diagonals) off their surfaces: Embree works
+// in single precision, and at 1e-6 a ray from a slightly tilted wall of the Cornell box
+// (coordinates near 550) hit the wall itself.
+constexpr double kRayOffset = 1e-4;
+
+// Shadow-ray form factors sample a patch at this many points at most.
+constexpr std::size_t kRaySamples = 16;
+
+// A point shadow rays sample on a patch: it stands for `share` of the patch's elements
+// [begin, end) (offsets in the patch).
+struct RaySample {
+  Vec3 point;
+  std::uint32_t begin, end;
+  double share;
+};
+
+// The points a shadow-ray form factor samples on a patch, at most kRaySamples: the
+// quarter points of a patch of up to four elements, else its elements' centroids, several
+// neighbours sharing one element's point beyond kRaySamples elements. Bounded because rays
+// are the fallback's whole cost: a patch of 4 x 4 elements cast 64 rays per aliasing
+// receiver, 3.3 ms of a 6.4 ms shot on the 8,992-element Cornell box.
+std::vector<RaySample> ray_samples(const Mesh& mesh, const Patch& patch) {
+  std::vector<RaySample> out;
+  if (4 * patch.count <= kRaySamples) {
+    for (std::uint32_t e = 0; e < patch.count; ++e)
+      for (const Vec3& point : quarter_points(mesh, mesh.elements[patch.first + e]))
+        out.push_back({point, e, e + 1, 0.25});
+    return out;
+  }
+  const std::size_t groups = std::min<std::size_t>(patch.count, kRaySamples);
+  for (std::size_t g = 0; g < groups; ++g) {
+    const std::uint32_t begin = std::uint32_t(g * patch.count / groups);
+    const std::uint32_t end = std::uint32_t((g + 1) * patch.count / groups);
+    out.push_back({mesh.elements[patch.first + (begin + end) / 2].centroid, begin, end, 1});
+  }
+  return out;
+}
+
+// Form factors from a shooting patch by shadow rays, for ray casting and for the hemi-cube's
+// aliasing fallback.
+class PatchRays {
+ public:
+  PatchRays(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
+      : mesh_(mesh), rays_(rays), open_(open) {
+    for (const Patch& patch : mesh.patches) ray_samples_.push_back(ray_samples(mesh, patch));
+  }
+  // Weighs patch `pi`'s samples for its shot (see the definition).
+  void weigh(std::uint32_t pi);
+  // F from the weighed patch to `element` (see the definition).
+  double form_factor(std::uint32_t patch, std::uint32_t element) const;
+
+ private:
+  const Mesh& mesh_;
+  const RayScene& rays_;
+  std::span<const double> open_;
+  std::vector<std::vector<RaySample>> ray_samples_;  // per patch, at most kRaySamples
+  // The shooting patch's area per element as it shoots, and its ray samples so weighed.
+  std::vector<double> shot_area_;
+  std::vector<AreaSample> shot_samples_;
+};
+
+// F_pj = F(dA_j -> A_p) A_j / A_p by reciprocity, the receiver at the element's centre.
+// Near field, point sampling falls far short
+// (tests/solver/radiosity/ray_cast_form_factor_test.cpp): there the rays give only the visible
+// share, and Lambert's exact value the rest.
+double PatchRays::form_factor(std::uint32_t patch, std::uint32_t element) const {
+  const Element& e = mesh_.elements[element];
+  const Patch& p = mesh_.patches[patch];
+  const auto& samples = shot_samples_;
+  double f = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, &rays_,
+                                  kRayOffset * mesh_.diagonal());
+  if (glm::length(e.centroid - p.centroid) < near_field_radius(p)) {
+    double open = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, nullptr, 0);
+    double exact = 0;
+    std::array<Vec3, 4> storage;
+    for (std::uint32_t k = 0; k < p.count; ++k)
+      exact += shot_area_[k] / mesh_.elements[p.first + k].area *
+               point_to_polygon(e.centroid, e.normal,
+                                element_corners(mesh_, mesh_.elements[p.first + k], storage));
+    f = open > 0 ? exact * f / open : 0;
+  }
+  return f * e.area / p.area;
+}
+
+// The patch's area as it shoots: each element's part in proportion to its open area
+// (open_share), so that rays and Lambert's values from a patch half under a block spread its
+// area's worth over the open half, as the hemi-cube from the centre of its power sees it
+// (weighed by the whole area, the rays lost the buried half's share: paper-room with 10,972
+// elements came out 1.3 % too dark). Not by the power each part shoots: with overshooting
+// that mixes signs within a patch, and the furnace's error tripled.
+void PatchRays::weigh(std::uint32_t pi) {
+  const Patch& patch = mesh_.patches[pi];
+  double open = 0;
+  for (std::uint32_t k = 0; k < patch.count; ++k)
+    open += mesh_.elements[patch.first + k].area * open_[patch.first + k];
+  shot_area_.resize(patch.count);
+  for (std::uint32_t k = 0; k < patch.count; ++k) {
+    const double area = mesh_.elements[patch.first + k].area;
+    shot_area_[k] = open > 0 ? patch.area * area * open_[patch.first + k] / open : area;
+  }
+  shot_samples_.clear();
+  for (const RaySample& r : ray_samples_[pi]) {
+    double area = 0;
+    for (std::uint32_t k = r.begin; k < r.end; ++k) area += shot_area_[k];
+    shot_samples_.push_back({r.point, r.share * area});
+  }
+}
+
+// Ray casting: every element's form factor from rays.
+class RayCastFormFactors : public ShotFormFactors {
+ public:
+  RayCastFormFactors(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
+      : mesh_(mesh), rays_(mesh, rays, open) {}
+  bool reads_hemicube() const override { return false; }
+  void begin(const Shot& shot) override { rays_.weigh(shot.patch); }
+  std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
+
+ private:
+  const Mesh& mesh_;
+  PatchRays rays_;
+  std::vector<VisibleElement> visible_;
+};
+
+std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube& hemicube,
+                                                      bool map) {
+  const std::uint32_t pi = shot.patch;
+  visible_.clear();
+  if (map) hemicube.form_factors();  // lists the bumpy elements' pixels for the map
+  std::vector<double> f(mesh_.elements.size(), 0.0);
+  parallel_for(int(f.size()), [&](int j) {
+    if (mesh_.elements[std::size_t(j)].patch != pi)
+      f[std::size_t(j)] = rays_.form_factor(pi, std::uint32_t(j));
+  });
+  double total = 0;
+  for (std::uint32_t j = 0; j < f.size(); ++j) {
+    if (f[j] > 0) visible_.push_back({j, f[j]});
+    total += f[j];
+  }
+  // Sampling errors must not make energy: a patch cannot send out more than it shoots.
+  if (total > 1)
+    for (VisibleElement& v : visible_) v.form_factor /= total;
+  return visible_;
+}
+
+// The hemi-cube, with the near field put right and the aliasing receivers taken from rays.
+class HemicubeFormFactors : public ShotFormFactors {
+ public:
+  HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings, const RayScene* rays,
+                      std::span<const double> open);
+  bool reads_hemicube() const override { return true; }
+  void begin(const Shot& shot) override;
+  std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
+
+ private:
+  double near_field(const Shot& shot, std::uint32_t element, double hemicube_form_factor) const;
+  // The hemi-cube's aliasing receivers with their ray-cast form factors (see definition).
+  std::vector<VisibleElement> aliased(std::uint32_t patch) const;
+
+  const Mesh& mesh_;
+  const int resolution_;
+  const double alias_pixels_;
+  std::optional<PatchRays> rays_;                 // none: no aliasing fallback
+  std::vector<std::vector<AreaSample>> samples_;  // per patch: near field (quarter points)
+  std::future<std::vector<VisibleElement>> aliased_;
+  std::vector<VisibleElement> visible_;
+  std::vector<std::int32_t> visible_slot_;  // per element, its entry in visible_ or -1
+};
+
+HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings,
+                                         const RayScene* rays, std::span<const double> open)
+    : mesh_(mesh),
+      resolution_(settings.hemicube_resolution),
+      alias_pixels_(settings.alias_pixels),
+      samples_(mesh.patches.size()),
+      visible_slot_(mesh.elements.size(), -1) {
+  if (rays && settings.alias_pixels > 0) rays_.emplace(mesh, *rays, open);
+  for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
+    const Patch& patch = mesh.patches[p];
+    for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
+      for (const Vec3& point : quarter_points(mesh, mesh.elements[e]))
+        samples_[p].push_back({point, mesh.elements[e].area / 4});
+  }
+}
+
+// Neither the aliasing receivers nor their rays depend on the hemi-cube: they are found on
+// another thread while it renders (llvmpipe renders on one).
+void HemicubeFormFactors::begin(const Shot& shot) {
+  if (!rays_) return;
+  rays_->weigh(shot.patch);
+  aliased_ = std::async(std::launch::async, [this, pi = shot.patch] { return aliased(pi); });
+}
+
+// Near field (docs/architecture.md; Baum, Rushmeier & Winget 1989): one hemi-cube at the
+// patch centre misjudges receivers within a few patch sizes, by +20% for parallel unit
+// squares one unit apart. Keep the hemi-cube's visible fraction of the receiver, but take
+// its unoccluded form factor as the mean of the exact point-to-polygon values (Lambert)
+// over points spread across the shooting patch.
+double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
+                                       double hemicube_form_factor) const {
+  const std::uint32_t patch = shot.patch;
+  const Vec3& origin = shot.origin;
+  std::array<Vec3, 4> storage;
+  std::span<const Vec3> receiver = element_corners(mesh_, mesh_.elements[element], storage);
+  const Vec3& n = mesh_.patches[patch].normal;
+  double at_origin = point_to_polygon(origin, n, receiver);
+  if (!(at_origin > 0)) return hemicube_form_factor;
+  double visible = std::min(1.0, hemicube_form_factor / at_origin);
+  // Each point of the shooter counts with the power it shoots (shot.weight, its element's,
+  // which the element's four quarter points share alike): a patch lit at one end sends its
+  // near neighbours the light of that end.
+  const auto& samples = samples_[patch];
+  double mean = 0, weights = 0;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const double w = shot.weight[k / 4];
+    mean += w * point_to_polygon(samples[k].point, n, receiver);
+    weights += w;
+  }
+  return weights > 0 ? visible * mean / weights : hemicube_form_factor;
+}
+
+// Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
+// face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole pixel
+// or not at all, so it takes its form factor from rays instead, near the patch too (where a
+// receiver no pixel sees got nothing before: the near field corrects only what the
+// hemi-cube saw). Neither the list nor the rays depend on the hemi-cube, so they run while
+// it renders.
+std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi) const {
+  const Patch& patch = mesh_.patches[pi];
+  const double pixel = 4.0 / (double(resolution_) * double(resolution_));
+  std::vector<VisibleElement> small;
+  for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
+    const Element& e = mesh_.elements[j];
+    Vec3 d = e.centroid - patch.centroid;
+    double r2 = glm::dot(d, d);
+    if (e.patch == pi) continue;
+    double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
+    if (cos_s <= 0 || cos_r <= 0) continue;
+    double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
+    if (solid_angle < alias_pixels_ * pixel) small.push_back({j, 0});
+  }
+  parallel_for(int(small.size()), [&](int k) {
+    VisibleElement& s = small[std::size_t(k)];
+    s.form_factor = rays_->form_factor(pi, s.element);
+  });
+  return small;
+}
+
+std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicube& hemicube, bool) {
+  const std::uint32_t pi = shot.patch;
+  const Patch& patch = mesh_.patches[pi];
+  // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
+  // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
+  visible_ = hemicube.form_factors();
+  const double near = near_field_radius(patch);
+  std::vector<std::size_t> close;
+  double seen = 0;
+  for (std::size_t k = 0; k < visible_.size(); ++k) {
+    const VisibleElement& v = visible_[k];
+    visible_slot_[v.element] = std::int32_t(k);
+    seen += v.form_factor;
+    if (glm::length(mesh_.elements[v.element].centroid - patch.centroid) < near) close.push_back(k);
+  }
+  parallel_for(int(close.size()), [&](int k) {
+    VisibleElement& v = visible_[close[std::size_t(k)]];
+    v.form_factor = near_field(shot, v.element, v.form_factor);
+  });
+  double corrected = 0;
+  for (const VisibleElement& v : visible_) corrected += v.form_factor;
+  const double scale = corrected > 0 ? seen / corrected : 0;
+  for (VisibleElement& v : visible_) v.form_factor *= scale;
+
+  // The aliasing receivers' ray-cast form factors, computed while the hemi-cube rendered.
+  if (aliased_.valid()) {
+    const std::vector<VisibleElement> small = aliased_.get();
+    double total = seen;
+    for (const VisibleElement& s : small) {
+      if (visible_slot_[s.element] >= 0) {
+        double& old = visible_[std::size_t(visible_slot_[s.element])].form_factor;
+        total += s.form_factor - old;
+        old = s.form_factor;
+      } else if (s.form_factor > 0) {
+        visible_.push_back(s);
+        total += s.form_factor;
+      }
+    }
+    if (total > 1)
+      for (VisibleElement& v : visible_) v.form_factor /= total;
+  }
+  for (const VisibleElement& v : visible_) visible_slot_[v.element] = -1;
+  return visible_;
+}
+
+}  // namespace
+
+std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
+                                                        const SolverSettings& settings,
+                                                        const RayScene* rays,
+                                                        std::span<const double> open) {
+  if (settings.form_factors == FormFactorMethod::RayCast) {
+    if (!rays) throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
+    return std::make_unique<RayCastFormFactors>(mesh, *rays, open);
+  }
+  return std::make_unique<HemicubeFormFactors>(mesh, settings, rays, open);
+}
+
+}  // namespace bumprad
