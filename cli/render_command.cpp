@@ -60,6 +60,35 @@ RenderArgs parse_args(std::span<const std::string_view> args) {
   return r;
 }
 
+// What the solve and the view pass did, for the user.
+void print_summary(const std::string& output, const Image& image, const Scene& scene,
+                   const Solution& solution, double seconds_view) {
+  const SolveStats& stats = solution.stats;
+  std::printf(
+      "wrote %s (%dx%d): %d shots, %zu elements, %zu patches, unshot %.2f%%, solve %.2f s, "
+      "view %.2f s\n",
+      output.c_str(), image.width, image.height, stats.shots, stats.elements,
+      solution.mesh->patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve,
+      seconds_view);
+  if (stats.estimated_error > 0)
+    std::printf(
+        "estimated error against path-traced ground truth: %.1f %% +- %.1f %% (tolerance "
+        "%.1f %%)\n",
+        100 * stats.estimated_error, 100 * stats.estimated_error_se, 100 * scene.solver.tolerance);
+  if (stats.non_diffuse_elements)
+    std::printf(
+        "non-diffuse: %zu elements (specular transfer in the solve, reflections in "
+        "the view)\n",
+        stats.non_diffuse_elements);
+  if (solution.map)
+    std::printf("perturbed map: %zu elements, %zu %s a vertex, %s, %.3f s\n",
+                stats.perturbed_elements, stats.map_values,
+                scene.solver.map.basis == MapBasisKind::SphericalHarmonics ? "harmonics"
+                                                                           : "sampled normals",
+                scene.solver.texture == TextureMode::Gather ? "gathered" : "shot",
+                stats.seconds_texture);
+}
+
 }  // namespace
 
 int render_command(std::span<const std::string_view> args) {
@@ -95,7 +124,6 @@ int render_command(std::span<const std::string_view> args) {
       return true;
     });
     if (tty) std::fputc('\n', stderr);
-    const SolveStats& stats = solution.stats;
 
     auto t1 = Clock::now();
     Image image = render(scene, solution);
@@ -103,32 +131,9 @@ int render_command(std::span<const std::string_view> args) {
     double seconds_view = seconds_since(t1);
 
     if (!a.solution.empty())
-      write_file_atomically(a.solution,
-                            solution_to_json(scene, *solution.mesh, solution.radiosity, stats));
-    std::printf(
-        "wrote %s (%dx%d): %d shots, %zu elements, %zu patches, unshot %.2f%%, solve %.2f s, "
-        "view %.2f s\n",
-        a.output.c_str(), image.width, image.height, stats.shots, stats.elements,
-        solution.mesh->patches.size(), 100 * stats.unshot_fraction, stats.seconds_solve,
-        seconds_view);
-    if (stats.estimated_error > 0)
-      std::printf(
-          "estimated error against path-traced ground truth: %.1f %% +- %.1f %% (tolerance "
-          "%.1f %%)\n",
-          100 * stats.estimated_error, 100 * stats.estimated_error_se,
-          100 * scene.solver.tolerance);
-    if (stats.non_diffuse_elements)
-      std::printf(
-          "non-diffuse: %zu elements (specular transfer in the solve, reflections in "
-          "the view)\n",
-          stats.non_diffuse_elements);
-    if (solution.map)
-      std::printf("perturbed map: %zu elements, %zu %s a vertex, %s, %.3f s\n",
-                  stats.perturbed_elements, stats.map_values,
-                  scene.solver.map.basis == MapBasisKind::SphericalHarmonics ? "harmonics"
-                                                                             : "sampled normals",
-                  scene.solver.texture == TextureMode::Gather ? "gathered" : "shot",
-                  stats.seconds_texture);
+      write_file_atomically(
+          a.solution, solution_to_json(scene, *solution.mesh, solution.radiosity, solution.stats));
+    print_summary(a.output, image, scene, solution, seconds_view);
     if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
     if (!a.save_map.empty()) {
       save_solution(a.save_map, scene_json, solution);

@@ -21,110 +21,152 @@ constexpr double kProgressInterval = 0.1;
 
 }  // namespace
 
+// One attempt at one job, from claim to its end: its record as the store will see it, and
+// what it has heard (a lost lease, a cancel) on the way.
+class JobRunner::Attempt {
+ public:
+  Attempt(JobRunner& runner, const std::string& worker, const Claim& claim, std::stop_source stop,
+          const std::atomic<StopReason>& reason)
+      : runner_(runner),
+        worker_(worker),
+        record_(claim.record),
+        stop_(std::move(stop)),
+        reason_(reason),
+        deadline_(runner.watchdog_, stop_,
+                  std::chrono::duration<double>(runner.options_.job_timeout_s)) {}
+
+  void run(const std::string& scene_json);
+
+ private:
+  // A refinement step: progress to the store, and a draft preview while previews have
+  // taken less than their share of the time. False stops the solve.
+  bool step(const Snapshot& snap, const Solution& partial);
+  // A step renews the lease; a step with a preview stores it and wakes the watchers.
+  void report(const std::string& png);
+  // A stopped job ends cancelled (DELETE), released (shutdown) or failed (time limit).
+  void stopped(const SolveStats& stats);
+  // The final image, the solution file and the record, done.
+  void finish(const Scene& scene, const std::string& scene_json, const Solution& solution);
+
+  JobRunner& runner_;
+  const std::string& worker_;
+  JobRecord record_;
+  std::stop_source stop_;
+  const std::atomic<StopReason>& reason_;
+  Watchdog::Guard deadline_;
+  bool lease_lost_ = false, cancel_heard_ = false;
+  Scene draft_;  // the scene at the drafts' camera (its exposure too)
+  Clock::time_point started_ = Clock::now(), last_step_ = started_, last_write_ = started_;
+  int last_shots_ = 0;
+  double drafts_s_ = 0;  // inside the solve's wall time, reported apart
+};
+
 void JobRunner::run(const std::string& worker, const Claim& claim, std::stop_source stop,
                     const std::atomic<StopReason>& reason) {
   metrics_.count_claim();
-  JobRecord record = claim.record;
-  std::fprintf(stderr, "job %s claimed by %s\n", record.id.c_str(), worker.c_str());
-  Watchdog::Guard deadline(watchdog_, stop, std::chrono::duration<double>(options_.job_timeout_s));
-  bool lease_lost = false, cancel_heard = false;
-  // A stopped job ends cancelled (DELETE), released (shutdown) or failed (time limit).
-  auto stopped = [&](const SolveStats& stats) {
-    if (lease_lost) return;
-    record.shots = stats.shots;
-    record.unshot_fraction = stats.unshot_fraction;
-    if (reason == StopReason::Shutdown && !cancel_heard) return store_.release(worker, record);
-    if (deadline.timed_out() && !cancel_heard) {
-      record.state = JobState::Failed;
-      char limit[32];
-      std::snprintf(limit, sizeof limit, "%g s", options_.job_timeout_s);
-      record.error = std::string("the job ran past this server's time limit of ") + limit;
-    } else {
-      record.state = JobState::Cancelled;
-    }
-    store_.finish(worker, record, nullptr);
-  };
+  std::fprintf(stderr, "job %s claimed by %s\n", claim.record.id.c_str(), worker.c_str());
+  Attempt(*this, worker, claim, std::move(stop), reason).run(claim.scene_json);
+}
+
+void JobRunner::Attempt::run(const std::string& scene_json) {
   try {
-    Scene scene = parse_scene(std::string_view(claim.scene_json), options_.files);
-    const auto started = Clock::now();
-    int last_shots = 0;
-    double drafts_s = 0;  // inside the solve's wall time, reported apart
-    auto last_step = started;
-    // A step renews the lease; a step with a preview stores it and wakes the watchers.
-    auto last_write = started;
-    auto report = [&](const std::string& png) {
-      if (png.empty() && seconds_since(last_write) < kProgressInterval) return;
-      last_write = Clock::now();
-      switch (store_.progress(worker, record, png)) {
-        case Store::Lease::Held:
-          metrics_.count_lease_renewal();
-          break;
-        case Store::Lease::CancelRequested:
-          cancel_heard = true;
-          stop.request_stop();
-          break;
-        case Store::Lease::Lost:
-          lease_lost = true;
-          stop.request_stop();
-          std::fprintf(stderr, "job %s: its lease was lost; another worker may run it\n",
-                       record.id.c_str());
-          break;
-      }
-    };
-    Scene draft = scene;
-    draft.camera = draft_camera(scene.camera);
+    const Scene scene = parse_scene(std::string_view(scene_json), runner_.options_.files);
+    draft_ = scene;
+    draft_.camera = draft_camera(scene.camera);
+    started_ = last_step_ = last_write_ = Clock::now();
     Solution solution = solve(
         scene,
-        [&](const Snapshot& snap, const Solution& partial) {
-          metrics_.count_shots(snap.shots - last_shots, seconds_since(last_step));
-          last_shots = snap.shots;
-          if (snap.final) return true;
-          record.shots = snap.shots;
-          record.unshot_fraction = snap.unshot_fraction;
-          record.elements = partial.mesh->elements.size();
-          record.patches = partial.mesh->patches.size();
-          std::string png;
-          if (record.step == 0 ||
-              record.seconds_previews < kPreviewShare * seconds_since(started)) {
-            auto t = Clock::now();
-            Image preview = render(draft, partial, snap, stop.get_token());
-            if (stop.stop_requested()) return false;
-            png = encode_image(preview, ImageFormat::Png, scene.camera.exposure);
-            record.seconds_previews += seconds_since(t);
-            drafts_s += seconds_since(t);
-          }
-          report(png);
-          last_step = Clock::now();
-          return !stop.stop_requested();
-        },
-        stop.get_token());
-    if (stop.stop_requested()) return stopped(solution.stats);
-
-    // The last step is the final image itself.
-    auto t = Clock::now();
-    Image image = render(scene, solution, stop.get_token());
-    if (stop.stop_requested()) return stopped(solution.stats);
-    Results results{encode_image(image, ImageFormat::Png, scene.camera.exposure),
-                    encode_image(image, ImageFormat::Exr, 1),
-                    encode_solution(claim.scene_json, solution)};
-    record.shots = solution.stats.shots;
-    record.unshot_fraction = solution.stats.unshot_fraction;
-    record.seconds_previews += seconds_since(t);
-    report(results.png);
-    if (stop.stop_requested()) return stopped(solution.stats);
-    record.state = JobState::Done;
-    record.elements = solution.stats.elements;
-    record.seconds_solve = solution.stats.seconds_solve - drafts_s;
-    record.seconds_texture = solution.stats.seconds_texture;
-    record.estimated_error = solution.stats.estimated_error;
-    record.estimated_error_se = solution.stats.estimated_error_se;
-    store_.finish(worker, record, &results);
+        [this](const Snapshot& snap, const Solution& partial) { return step(snap, partial); },
+        stop_.get_token());
+    if (stop_.stop_requested()) return stopped(solution.stats);
+    finish(scene, scene_json, solution);
   } catch (const std::exception& e) {
-    if (lease_lost) return;
-    record.state = JobState::Failed;
-    record.error = e.what();
-    store_.finish(worker, record, nullptr);
+    if (lease_lost_) return;
+    record_.state = JobState::Failed;
+    record_.error = e.what();
+    runner_.store_.finish(worker_, record_, nullptr);
   }
+}
+
+bool JobRunner::Attempt::step(const Snapshot& snap, const Solution& partial) {
+  runner_.metrics_.count_shots(snap.shots - last_shots_, seconds_since(last_step_));
+  last_shots_ = snap.shots;
+  if (snap.final) return true;
+  record_.shots = snap.shots;
+  record_.unshot_fraction = snap.unshot_fraction;
+  record_.elements = partial.mesh->elements.size();
+  record_.patches = partial.mesh->patches.size();
+  std::string png;
+  if (record_.step == 0 || record_.seconds_previews < kPreviewShare * seconds_since(started_)) {
+    auto t = Clock::now();
+    Image preview = render(draft_, partial, snap, stop_.get_token());
+    if (stop_.stop_requested()) return false;
+    png = encode_image(preview, ImageFormat::Png, draft_.camera.exposure);
+    record_.seconds_previews += seconds_since(t);
+    drafts_s_ += seconds_since(t);
+  }
+  report(png);
+  last_step_ = Clock::now();
+  return !stop_.stop_requested();
+}
+
+void JobRunner::Attempt::report(const std::string& png) {
+  if (png.empty() && seconds_since(last_write_) < kProgressInterval) return;
+  last_write_ = Clock::now();
+  switch (runner_.store_.progress(worker_, record_, png)) {
+    case Store::Lease::Held:
+      runner_.metrics_.count_lease_renewal();
+      break;
+    case Store::Lease::CancelRequested:
+      cancel_heard_ = true;
+      stop_.request_stop();
+      break;
+    case Store::Lease::Lost:
+      lease_lost_ = true;
+      stop_.request_stop();
+      std::fprintf(stderr, "job %s: its lease was lost; another worker may run it\n",
+                   record_.id.c_str());
+      break;
+  }
+}
+
+void JobRunner::Attempt::stopped(const SolveStats& stats) {
+  if (lease_lost_) return;
+  record_.shots = stats.shots;
+  record_.unshot_fraction = stats.unshot_fraction;
+  if (reason_ == StopReason::Shutdown && !cancel_heard_)
+    return runner_.store_.release(worker_, record_);
+  if (deadline_.timed_out() && !cancel_heard_) {
+    record_.state = JobState::Failed;
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%g s", runner_.options_.job_timeout_s);
+    record_.error = std::string("the job ran past this server's time limit of ") + limit;
+  } else {
+    record_.state = JobState::Cancelled;
+  }
+  runner_.store_.finish(worker_, record_, nullptr);
+}
+
+// The last step is the final image itself.
+void JobRunner::Attempt::finish(const Scene& scene, const std::string& scene_json,
+                                const Solution& solution) {
+  auto t = Clock::now();
+  Image image = render(scene, solution, stop_.get_token());
+  if (stop_.stop_requested()) return stopped(solution.stats);
+  Results results{encode_image(image, ImageFormat::Png, scene.camera.exposure),
+                  encode_image(image, ImageFormat::Exr, 1), encode_solution(scene_json, solution)};
+  record_.shots = solution.stats.shots;
+  record_.unshot_fraction = solution.stats.unshot_fraction;
+  record_.seconds_previews += seconds_since(t);
+  report(results.png);
+  if (stop_.stop_requested()) return stopped(solution.stats);
+  record_.state = JobState::Done;
+  record_.elements = solution.stats.elements;
+  record_.seconds_solve = solution.stats.seconds_solve - drafts_s_;
+  record_.seconds_texture = solution.stats.seconds_texture;
+  record_.estimated_error = solution.stats.estimated_error;
+  record_.estimated_error_se = solution.stats.estimated_error_se;
+  runner_.store_.finish(worker_, record_, &results);
 }
 
 }  // namespace bumprad

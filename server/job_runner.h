@@ -35,6 +35,7 @@ class JobRunner {
   const RunnerOptions& options() const { return options_; }
 
  private:
+  class Attempt;
   Store& store_;
   Metrics& metrics_;
   Watchdog& watchdog_;

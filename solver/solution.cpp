@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "common/stopwatch.h"
+#include "solver/radiosity/progressive.h"
 #include "solver/radiosity/vertex_radiosity.h"
 #include "solver/render/error_estimate.h"
 #include "solver/render/lights.h"
@@ -12,19 +13,38 @@
 namespace bumprad {
 namespace {
 
+// What of a solution the light does not change: the mesh, its (empty) map, its rays, open
+// shares and near sets.
+Solution prepared(const Scene& scene, std::unique_ptr<Mesh> mesh) {
+  Solution out;
+  out.mesh = std::move(mesh);
+  out.map = make_map(scene, *out.mesh);
+  out.rays = std::make_unique<RayScene>(*out.mesh);
+  out.open = open_share(*out.mesh, *out.rays);
+  if (scene.solver.direct_light == DirectLight::Exact)
+    out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open);
+  return out;
+}
+
+// The map gathered after the solve (TextureMode::Gather): a hemi-cube at each bumpy vertex.
+void gather_map(const Scene& scene, Solution& out, std::stop_token stop) {
+  Hemicube hemicube(*out.mesh, scene.solver.hemicube_resolution);
+  // With exact direct light the map gathers the indirect light only: what the vertex sees
+  // less the emitters' own emission.
+  std::vector<Rgb> seen = out.display;
+  if (scene.solver.direct_light == DirectLight::Exact)
+    for (std::size_t i = 0; i < seen.size(); ++i)
+      seen[i] -= scene.materials[std::size_t(out.mesh->elements[i].material)].emission;
+  out.map->gather(scene.materials, seen, hemicube, stop);
+}
+
 // One progressive solve on a given mesh, with its map and rays.
 Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepCallback& on_step,
                   std::stop_token stop) {
   auto t0 = Clock::now();
-  Solution out;
-  out.mesh = std::move(mesh_in);
+  Solution out = prepared(scene, std::move(mesh_in));
   const Mesh& mesh = *out.mesh;
-
-  out.map = make_map(scene, mesh);
-  out.rays = std::make_unique<RayScene>(mesh);
-  out.open = open_share(mesh, *out.rays);
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
-  if (exact) out.near = std::make_unique<NearField>(mesh, *out.rays, out.open);
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
@@ -79,14 +99,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   if (mode == TextureMode::Shoot) {
     out.map->finish_shooting(scene.materials);
   } else if (mode == TextureMode::Gather) {
-    Hemicube hemicube(mesh, scene.solver.hemicube_resolution);
-    // With exact direct light the map gathers the indirect light only: what the vertex
-    // sees less the emitters' own emission.
-    std::vector<Rgb> seen = out.display;
-    if (exact)
-      for (std::size_t i = 0; i < seen.size(); ++i)
-        seen[i] -= scene.materials[std::size_t(mesh.elements[i].material)].emission;
-    out.map->gather(scene.materials, seen, hemicube, stop);
+    gather_map(scene, out, stop);
     if (stop.stop_requested()) return out;
   }
   texture_s += seconds_since(t1) + solver.total_time().texture_s;

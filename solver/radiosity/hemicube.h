@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "solver/radiosity/visible_element.h"
 #include "solver/scene/mesh.h"
 #include "solver/util/frame.h"
 #include "solver/util/gl_context.h"
@@ -46,11 +47,6 @@ class DeltaFormFactors {
   std::vector<float> weight_;  // dA / (pi r^4), normalised
   std::vector<glm::vec3> direction_;
   std::vector<std::uint32_t> mirror_;
-};
-
-struct VisibleElement {
-  std::uint32_t element;
-  double form_factor;
 };
 
 class Hemicube {

@@ -95,23 +95,34 @@ class ElementGrid {
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
 };
 
+// Each vertex's elements, laid end to end.
+class VertexElements {
+ public:
+  explicit VertexElements(const Mesh& mesh) : first_(mesh.vertices.size() + 1, 0) {
+    for (const Element& e : mesh.elements)
+      for (int k = 0; k < e.vertex_count; ++k) ++first_[e.v[std::size_t(k)] + 1];
+    for (std::size_t v = 0; v + 1 < first_.size(); ++v) first_[v + 1] += first_[v];
+    elements_.resize(first_.back());
+    std::vector<std::uint32_t> fill(first_.begin(), first_.end() - 1);
+    for (std::uint32_t i = 0; i < mesh.elements.size(); ++i)
+      for (int k = 0; k < mesh.elements[i].vertex_count; ++k)
+        elements_[fill[mesh.elements[i].v[std::size_t(k)]]++] = i;
+  }
+  std::span<const std::uint32_t> of(std::uint32_t v) const {
+    return {elements_.data() + first_[v], elements_.data() + first_[v + 1]};
+  }
+
+ private:
+  std::vector<std::uint32_t> first_, elements_;
+};
+
 }  // namespace
 
 NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
     : mesh_(mesh), first_(mesh.vertices.size() + 1, 0), covered_(mesh.vertices.size(), 0.0) {
   const std::size_t vertex_count = mesh.vertices.size(), element_count = mesh.elements.size();
   if (element_count == 0) return;
-  // Each vertex's elements.
-  std::vector<std::uint32_t> adjacent_first(vertex_count + 1, 0), adjacent;
-  for (const Element& e : mesh.elements)
-    for (int k = 0; k < e.vertex_count; ++k) ++adjacent_first[e.v[std::size_t(k)] + 1];
-  for (std::size_t v = 0; v < vertex_count; ++v) adjacent_first[v + 1] += adjacent_first[v];
-  adjacent.resize(adjacent_first.back());
-  std::vector<std::uint32_t> fill(adjacent_first.begin(), adjacent_first.end() - 1);
-  for (std::uint32_t i = 0; i < element_count; ++i)
-    for (int k = 0; k < mesh.elements[i].vertex_count; ++k)
-      adjacent[fill[mesh.elements[i].v[std::size_t(k)]]++] = i;
-
+  const VertexElements adjacent(mesh);
   std::vector<double> radius(element_count), sizes(element_count);
   for (std::size_t i = 0; i < element_count; ++i) {
     const Element& e = mesh.elements[i];
@@ -142,8 +153,7 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
   std::vector<std::vector<Term>> per_vertex(vertex_count);
   parallel_for(int(vertex_count), [&](int index) {
     const std::uint32_t v = std::uint32_t(index);
-    const std::span<const std::uint32_t> around(adjacent.data() + adjacent_first[v],
-                                                adjacent.data() + adjacent_first[v + 1]);
+    const std::span<const std::uint32_t> around = adjacent.of(v);
     double size = 0, open_area = 0;
     for (std::uint32_t i : around) {
       size = std::max(size, std::sqrt(mesh.elements[i].area));

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "common/stopwatch.h"
+#include "solver/radiosity/perturbed_map.h"
 #include "solver/scene/geometry.h"
 
 namespace bumprad {

@@ -10,7 +10,7 @@
 #include <span>
 #include <vector>
 
-#include "solver/radiosity/hemicube.h"
+#include "solver/radiosity/visible_element.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/scene.h"
 

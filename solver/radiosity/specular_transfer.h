@@ -9,13 +9,15 @@
 #include <span>
 #include <vector>
 
-#include "solver/radiosity/hemicube.h"
-#include "solver/radiosity/perturbed_map.h"
 #include "solver/radiosity/residuals.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/scene.h"
+#include "solver/util/frame.h"
 
 namespace bumprad {
+
+class Hemicube;
+class PerturbedMap;
 
 class SpecularTransfer {
  public:
@@ -33,6 +35,14 @@ class SpecularTransfer {
                   bool exact);
 
  private:
+  static constexpr int kLobe = 32;  // lobe samples per incoming direction
+  struct Pass;
+  std::vector<std::vector<std::uint32_t>> source_pixels(std::span<const std::uint32_t> ids,
+                                                        std::span<const Queued> sources);
+  void deposit(Pass& pass, std::size_t pixel, const Rgb& power, const Rgb& emission);
+  void reflect(Pass& pass, std::uint32_t pixel, const Rgb& power, const Rgb& emission, int count,
+               int first);
+
   const Mesh& mesh_;
   std::vector<double> shininess_;          // per element: Phong exponent, 0 for a mirror
   std::vector<std::int32_t> source_slot_;  // per patch, scratch

@@ -244,22 +244,13 @@ double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distan
   return power_heuristic(lobe_pdf, pdf_solid_angle(element, distance, cos_there));
 }
 
-Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
-                   int shadow_rays, Random& random) const {
-  // The emitters and their images that x sees in front of both planes, with their exact
-  // unoccluded F: a group whole, or near it (within kGroupReach of its radius) element by
-  // element, because shadow rays picked by area weigh a group's parts by area rather than by
-  // their form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
-  struct Seen {
-    std::span<const std::uint32_t> elements;
-    std::span<const double> cumulative;
-    const Group* group;
-    const Mirror* mirror;  // null: the emitter itself
-    double form_factor;
-    double share;  // k_s E F, channel sum: how many rays it gets
-  };
+// The emitters and their images that x sees in front of both planes, with their exact
+// unoccluded F: a group whole, or near it (within kGroupReach of its radius) element by
+// element, because shadow rays picked by area weigh a group's parts by area rather than by
+// their form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
+// Returns the sum of their shares.
+double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const {
   static constexpr double kWhole = 1;
-  thread_local std::vector<Seen> seen;
   thread_local std::vector<Vec3> corners;
   seen.clear();
   double total = 0;
@@ -296,25 +287,35 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
   for (const Mirror& m : mirrors_)
     if (glm::dot(x - m.point, m.normal) > 0)
       for (const Group& g : groups_) consider_group(g, &m);
+  return total;
+}
+
+// One shadow ray from `from` to a point of what `s` sees, picked by area.
+bool Lights::visible(const Seen& s, const Vec3& from, const Vec3& geometric, const RayScene& rays,
+                     Random& random) const {
+  const std::size_t pick =
+      s.elements.size() == 1
+          ? 0
+          : std::min(std::size_t(
+                         std::lower_bound(s.cumulative.begin(), s.cumulative.end(), random.next()) -
+                         s.cumulative.begin()),
+                     s.elements.size() - 1);
+  const Vec3 y = point_on(mesh_.elements[s.elements[pick]], random);
+  Vec3 d = (s.mirror ? s.mirror->reflect(y) : y) - from;
+  const double distance = glm::length(d);
+  d /= distance;
+  if (glm::dot(d, geometric) <= 0) return false;
+  if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
+  return visible_through(*s.mirror, from, from + d * distance, rays);
+}
+
+Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
+                   int shadow_rays, Random& random) const {
+  thread_local std::vector<Seen> seen;
+  const double total = seen_from(x, normal, seen);
   if (seen.empty()) return Rgb(0);
 
   const Vec3 from = x + geometric * epsilon_;
-  auto visible = [&](const Seen& s) {
-    const std::size_t pick =
-        s.elements.size() == 1
-            ? 0
-            : std::min(std::size_t(std::lower_bound(s.cumulative.begin(), s.cumulative.end(),
-                                                    random.next()) -
-                                   s.cumulative.begin()),
-                       s.elements.size() - 1);
-    const Vec3 y = point_on(mesh_.elements[s.elements[pick]], random);
-    Vec3 d = (s.mirror ? s.mirror->reflect(y) : y) - from;
-    const double distance = glm::length(d);
-    d /= distance;
-    if (glm::dot(d, geometric) <= 0) return false;
-    if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
-    return visible_through(*s.mirror, from, from + d * distance, rays);
-  };
   auto arriving = [&](const Seen& s) {
     return s.group->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));
   };
@@ -325,7 +326,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
       int hits = 0;
-      for (int r = 0; r < each; ++r) hits += visible(s);
+      for (int r = 0; r < each; ++r) hits += visible(s, from, geometric, rays, random);
       sum += arriving(s) * (double(hits) / each);
     }
     return sum;
@@ -337,7 +338,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
   for (const Seen& s : seen) {
     reached += s.share;
     for (; next < reached; next += step)
-      if (visible(s)) sum += arriving(s) * (step / s.share);
+      if (visible(s, from, geometric, rays, random)) sum += arriving(s) * (step / s.share);
   }
   return sum;
 }

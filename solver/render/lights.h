@@ -96,6 +96,19 @@ class Lights {
     // A direction's mirror image (an emitter's normal, seen in the mirror).
     Vec3 turn(const Vec3& d) const { return d - 2 * glm::dot(d, normal) * normal; }
   };
+  // An emitter group, or one of its elements, or either's image in a mirror, as a point sees
+  // it for direct().
+  struct Seen {
+    std::span<const std::uint32_t> elements;
+    std::span<const double> cumulative;
+    const Group* group;
+    const Mirror* mirror;  // null: the emitter itself
+    double form_factor;
+    double share;  // k_s E F, channel sum: how many rays it gets
+  };
+  double seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const;
+  bool visible(const Seen& s, const Vec3& from, const Vec3& geometric, const RayScene& rays,
+               Random& random) const;
   void group_emitters();
   // The outline of coplanar elements that make one simple region (corners only), or empty.
   std::vector<Vec3> planar_outline(std::span<const std::uint32_t> elements) const;
