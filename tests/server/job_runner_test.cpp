@@ -1,0 +1,102 @@
+// One claimed job run against a real data-directory store: done with its files and steps;
+// past its time limit failed, saying so; cancelled when the store says so; given back at
+// shutdown. The endless jobs here cannot finish (300,000 shots, no unshot target), so only
+// the stop ends them, whatever the machine's speed.
+#include "server/job_runner.h"
+
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "server/directory_store.h"
+#include "tests/server/in_process.h"
+#include "tests/test_files.h"
+#include "tests/test_server.h"
+
+namespace bumprad {
+namespace {
+
+struct Runner {
+  explicit Runner(const std::string& name, double job_timeout_s = 3600)
+      : store(test::fresh_temp_dir(name), StoreOptions{}),
+        runner(store, metrics, watchdog, RunnerOptions{job_timeout_s, ImageFiles::refused()}) {}
+
+  // Submits `scene_json` and claims it; the claim.
+  Claim queue(const std::string& scene_json) {
+    JobRecord record;
+    record.id = new_job_id();
+    record.scene_name = "inline";
+    store.submit(record, scene_json, "");
+    std::optional<Claim> claim = store.claim("worker-1");
+    if (!claim) throw std::runtime_error("nothing to claim");
+    return *claim;
+  }
+
+  DirectoryStore store;
+  Metrics metrics;
+  Watchdog watchdog;
+  JobRunner runner;
+};
+
+TEST(JobRunner, AJobRunsToDoneWithItsFilesAndSteps) {
+  Runner r("runner-done");
+  const Claim claim = r.queue(test::small_scene_json(30));
+  std::atomic<StopReason> reason{StopReason::None};
+  r.runner.run("worker-1", claim, {}, reason);
+  const JobRecord done = *r.store.find(claim.record.id);
+  EXPECT_EQ(done.state, JobState::Done) << done.error;
+  EXPECT_GT(done.shots, 0);
+  EXPECT_GE(done.step, 1);
+  EXPECT_GT(done.elements, 0u);
+  EXPECT_TRUE(r.store.read(done.id, Artifact::Png));
+  EXPECT_TRUE(r.store.read(done.id, Artifact::Exr));
+  EXPECT_TRUE(r.store.read(done.id, Artifact::Solution));
+  EXPECT_TRUE(r.store.read_step(done.id, done.step));
+  EXPECT_NE(r.metrics.prometheus({}).find("bumprad_claims_total 1\n"), std::string::npos);
+}
+
+TEST(JobRunner, PastItsTimeLimitAJobFailsAndSaysWhy) {
+  Runner r("runner-timeout", 0.25);
+  const Claim claim = r.queue(test::small_scene_json(0, true));
+  std::atomic<StopReason> reason{StopReason::None};
+  r.runner.run("worker-1", claim, {}, reason);
+  const JobRecord failed = *r.store.find(claim.record.id);
+  EXPECT_EQ(failed.state, JobState::Failed);
+  EXPECT_EQ(failed.error, "the job ran past this server's time limit of 0.25 s");
+  EXPECT_FALSE(r.store.read(failed.id, Artifact::Png));
+}
+
+TEST(JobRunner, ACancelInTheStoreEndsTheJobCancelled) {
+  Runner r("runner-cancel");
+  const Claim claim = r.queue(test::small_scene_json(0, true));
+  std::stop_source stop;
+  std::atomic<StopReason> reason{StopReason::None};
+  // The store hears the DELETE; the worker hears it at its next step.
+  std::thread runner([&] { r.runner.run("worker-1", claim, stop, reason); });
+  test::wait_for(r.store, claim.record.id, JobState::Running);
+  while (r.store.find(claim.record.id)->step < 1)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_EQ(r.store.cancel_or_delete(claim.record.id), Store::Removal::Cancelled);
+  runner.join();
+  EXPECT_EQ(r.store.find(claim.record.id)->state, JobState::Cancelled);
+}
+
+TEST(JobRunner, AtShutdownTheJobIsGivenBack) {
+  Runner r("runner-shutdown");
+  const Claim claim = r.queue(test::small_scene_json(0, true));
+  std::stop_source stop;
+  std::atomic<StopReason> reason{StopReason::None};
+  std::thread runner([&] { r.runner.run("worker-1", claim, stop, reason); });
+  while (r.store.find(claim.record.id)->step < 1)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  reason = StopReason::Shutdown;
+  stop.request_stop();
+  runner.join();
+  // A data directory keeps it as interrupted (PostgreSQL would queue it again).
+  const JobRecord given_back = *r.store.find(claim.record.id);
+  EXPECT_EQ(given_back.state, JobState::Interrupted);
+  EXPECT_GT(given_back.shots, 0);
+}
+
+}  // namespace
+}  // namespace bumprad
