@@ -21,11 +21,6 @@ double near_field_radius(const Patch& patch) {
   return kNearField * std::sqrt(patch.area);
 }
 
-// Shadow rays start and end this far (in scene diagonals) off their surfaces: Embree works
-// in single precision, and at 1e-6 a ray from a slightly tilted wall of the Cornell box
-// (coordinates near 550) hit the wall itself.
-constexpr double kRayOffset = 1e-4;
-
 // Shadow-ray form factors sample a patch at this many points at most.
 constexpr std::size_t kRaySamples = 16;
 
@@ -91,7 +86,7 @@ double PatchRays::form_factor(std::uint32_t patch, std::uint32_t element) const 
   const Patch& p = mesh_.patches[patch];
   const auto& samples = shot_samples_;
   double f = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, &rays_,
-                                  kRayOffset * mesh_.diagonal());
+                                  centroid_ray_offset(mesh_));
   if (glm::length(e.centroid - p.centroid) < near_field_radius(p)) {
     double open = ray_cast_form_factor(e.centroid, e.normal, samples, p.normal, nullptr, 0);
     double exact = 0;

@@ -74,6 +74,7 @@ class Tracer {
         rays_(rays),
         camera_(camera),
         detail_(detail),
+        epsilon_(ray_epsilon(mesh)),
         vertex_(vertex_values(mesh, element_radiosity, detail)),
         texture_scale_(detail.materials.size(), Rgb(0)) {
     if (detail.near && detail.lights) near_.emplace(*detail.near, detail.reflected);
@@ -105,7 +106,7 @@ class Tracer {
     if (!m || m->specular <= 0 || depth >= camera_.max_depth) return p.radiosity;
 
     Vec3 r = glm::reflect(ray.direction, p.normal);
-    Vec3 from = p.position + p.normal * (1e-6 * mesh_.diagonal());
+    Vec3 from = p.position + p.normal * epsilon_;
     if (m->shininess <= 0) {
       LobeRay next;
       if (lobe_ray.pdf > 0 && !lobe_ray.mirrored && lights && lights->planar_mirror(e.surface))
@@ -173,6 +174,7 @@ class Tracer {
   const RayScene& rays_;
   const Camera& camera_;
   const SurfaceDetail& detail_;
+  const double epsilon_;  // reflected rays leave by it
   std::vector<Rgb> vertex_;
   std::vector<Rgb> texture_scale_;  // per material: 1 / the texture's mean reflectance
   std::optional<NearFieldShading> near_;

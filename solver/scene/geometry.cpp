@@ -77,6 +77,10 @@ double ray_epsilon(const Mesh& mesh) {
   return 4e-6 * extent;
 }
 
+double centroid_ray_offset(const Mesh& mesh) {
+  return 1e-4 * mesh.diagonal();
+}
+
 double hemicube_lift(const Mesh& mesh) {
   return mesh.diagonal() * 1e-6;
 }

@@ -48,6 +48,12 @@ SurfaceAt surface_at(const Mesh& mesh, const Element& element, double u, double 
 // above its floor.
 double ray_epsilon(const Mesh& mesh);
 
+// How far rays between element centroids and points sampled on patches leave both ends:
+// 1e-4 of the scene diagonal. A centroid of a quad that is not quite planar lies off the two
+// triangles Embree makes of it, by more than ray_epsilon: at 1e-6 of the diagonal a ray
+// from a slightly tilted wall of the Cornell box (coordinates near 550) met the wall itself.
+double centroid_ray_offset(const Mesh& mesh);
+
 // How far a hemi-cube's eye sits off its surface: 1e-6 of the scene diagonal. The item
 // buffer's depth test, in the hemi-cube's own frame, judges what it sees, not Embree, so it
 // needs no more than to leave the plane it stands on.
