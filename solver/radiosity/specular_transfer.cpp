@@ -72,7 +72,7 @@ void SpecularTransfer::deposit(Pass& pass, std::size_t q, const Rgb& power, cons
 // renormalised, so exactly the queued power leaves (the lobe conserves energy). A source
 // seen in many pixels gives each pixel only its share of the 32 strata (`count` of them from
 // `first`), the neighbours taking the others: a large source costs one sample a pixel, not
-// 32 (the sphere of paper-room spent 24 ms a shot here).
+// 32 (with 32, paper-room's sphere spent longer on this than on its hemi-cube).
 void SpecularTransfer::reflect(Pass& pass, std::uint32_t p, const Rgb& power, const Rgb& emission,
                                int count, int first) {
   const DeltaFormFactors& d = pass.d;
