@@ -56,19 +56,12 @@ int main(int argc, char** argv) {
   std::string server = "http://127.0.0.1:8080";
   double seconds = 20;
   int clients = 16;
-  try {
-    ArgParser()
-        .text({"--server"}, server)
-        .number({"--seconds"}, seconds, 0.1, 86'400)
-        .integer({"--clients"}, clients, 5, 10'000)
-        .parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr,
-                 "bumprad-bench-load: %s\nusage: bumprad-bench-load [--server URL] [--seconds S] "
-                 "[--clients N]\n",
-                 e.what());
-    return 2;
-  }
+  ArgParser()
+      .text({"--server"}, server)
+      .number({"--seconds"}, seconds, 0.1, 86'400)
+      .integer({"--clients"}, clients, 5, 10'000)
+      .parse_or_exit(argc, argv,
+                     "usage: bumprad-bench-load [--server URL] [--seconds S] [--clients N]\n");
   try {
     auto [host, port] = parse_server_url(server);
     const HttpClient setup(host, port, 600);

@@ -211,21 +211,13 @@ int main(int argc, char** argv) {
       }
     };
   };
-  try {
-    ArgParser()
-        .text({"--store"}, url)
-        .integer({"--jobs"}, jobs, 1, 100'000'000)
-        .custom({"--claimers"}, list(claimers))
-        .custom({"--workers"}, list(workers))
-        .integer({"--farm-jobs"}, farm_jobs, 1, 100'000'000)
-        .parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr,
-                 "bumprad-bench-queue: %s (options: see the comment at the top of "
-                 "bench/queue_bench.cpp)\n",
-                 e.what());
-    return 2;
-  }
+  ArgParser()
+      .text({"--store"}, url)
+      .integer({"--jobs"}, jobs, 1, 100'000'000)
+      .custom({"--claimers"}, list(claimers))
+      .custom({"--workers"}, list(workers))
+      .integer({"--farm-jobs"}, farm_jobs, 1, 100'000'000)
+      .parse_or_exit(argc, argv, "options: see the comment at the top of bench/queue_bench.cpp\n");
   try {
     Databases databases(url);
     std::printf("bumprad-bench-queue: %u CPU threads\n", std::thread::hardware_concurrency());

@@ -24,19 +24,12 @@ int main(int argc, char** argv) {
   std::string server = "http://127.0.0.1:8080", scene = "wrinkled-box";
   int retextures = 20;
   std::vector<std::string> positional;
-  try {
-    ArgParser()
-        .text({"--server"}, server)
-        .integer({"--retextures"}, retextures, 1, 100'000)
-        .positional(positional, 1)
-        .parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr,
-                 "bumprad-bench-service: %s\nusage: bumprad-bench-service [SCENE] [--server URL] "
-                 "[--retextures N]\n",
-                 e.what());
-    return 2;
-  }
+  ArgParser()
+      .text({"--server"}, server)
+      .integer({"--retextures"}, retextures, 1, 100'000)
+      .positional(positional, 1)
+      .parse_or_exit(argc, argv,
+                     "usage: bumprad-bench-service [SCENE] [--server URL] [--retextures N]\n");
   if (!positional.empty())
     scene = positional[0].starts_with("builtin:") ? positional[0].substr(8) : positional[0];
   try {

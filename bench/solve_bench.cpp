@@ -41,22 +41,16 @@ int main(int argc, char** argv) {
   int shots = -1, hemicube = -1, patch_elements = 0;
   double element_size = 0, unshot = 0;
   std::vector<std::string> positional;
-  try {
-    ArgParser()
-        .integer({"--shots"}, shots, 1, 100'000'000)
-        .integer({"--hemicube"}, hemicube, 2, 4096)
-        .number({"--element-size"}, element_size, 0, 1e300)
-        .integer({"--patch-elements"}, patch_elements, 1, 1024)
-        .number({"--unshot"}, unshot, 0, 1)
-        .positional(positional, 1)
-        .parse(argc, argv);
-  } catch (const UsageError& e) {
-    std::fprintf(stderr,
-                 "bumprad-bench-solve: %s\nusage: bumprad-bench-solve [SCENE] [--shots N] "
-                 "[--hemicube R] [--element-size S] [--patch-elements K] [--unshot F]\n",
-                 e.what());
-    return 2;
-  }
+  ArgParser()
+      .integer({"--shots"}, shots, 1, 100'000'000)
+      .integer({"--hemicube"}, hemicube, 2, 4096)
+      .number({"--element-size"}, element_size, 0, 1e300)
+      .integer({"--patch-elements"}, patch_elements, 1, 1024)
+      .number({"--unshot"}, unshot, 0, 1)
+      .positional(positional, 1)
+      .parse_or_exit(argc, argv,
+                     "usage: bumprad-bench-solve [SCENE] [--shots N] [--hemicube R] "
+                     "[--element-size S] [--patch-elements K] [--unshot F]\n");
   if (!positional.empty()) source = positional.front();
   try {
     Scene scene = load_scene(source);

@@ -26,26 +26,23 @@
 #include "solver/solution.h"
 #include "solver/util/image.h"
 
+constexpr const char* kUsage = "usage: bumprad-bench-truth SCENE [--spp N] [--reference REF.exr]\n";
+
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source, cache;
   int spp = 1024;
   std::vector<std::string> positional;
-  try {
-    ArgParser()
-        .integer({"--spp"}, spp, 1, 1 << 24)
-        .text({"--reference"}, cache)
-        .positional(positional, 1)
-        .parse(argc, argv);
-    if (positional.empty()) throw UsageError("no scene given");
-    source = positional.front();
-  } catch (const UsageError& e) {
-    std::fprintf(stderr,
-                 "bumprad-bench-truth: %s\nusage: bumprad-bench-truth SCENE [--spp N] "
-                 "[--reference REF.exr]\n",
-                 e.what());
+  ArgParser()
+      .integer({"--spp"}, spp, 1, 1 << 24)
+      .text({"--reference"}, cache)
+      .positional(positional, 1)
+      .parse_or_exit(argc, argv, kUsage);
+  if (positional.empty()) {
+    std::fprintf(stderr, "bumprad-bench-truth: no scene given\n%s", kUsage);
     return 2;
   }
+  source = positional.front();
   try {
     const Scene scene = load_scene(source);
     const Mesh mesh = build_mesh(scene);

@@ -2,6 +2,8 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace bumprad {
@@ -137,6 +139,18 @@ void ArgParser::parse(std::span<const std::string_view> args) {
 void ArgParser::parse(int argc, const char* const* argv) {
   std::vector<std::string_view> args(argv + 1, argv + argc);
   parse(args);
+}
+
+void ArgParser::parse_or_exit(int argc, const char* const* argv, std::string_view usage) {
+  try {
+    parse(argc, argv);
+  } catch (const UsageError& e) {
+    const std::string_view program = argc > 0 ? argv[0] : "";
+    std::fprintf(stderr, "%s: %s\n%.*s",
+                 std::string(program.substr(program.rfind('/') + 1)).c_str(), e.what(),
+                 int(usage.size()), usage.data());
+    std::exit(2);
+  }
 }
 
 bool ArgParser::given(std::string_view flag) const {

@@ -66,6 +66,9 @@ class ArgParser {
   // Reads `args` (without the program and command names). Throws UsageError.
   void parse(std::span<const std::string_view> args);
   void parse(int argc, const char* const* argv);  // argv[0] is the program
+  // For a tool's main(): parses argv, or says "PROGRAM: what is wrong" and `usage` on stderr
+  // and exits with status 2.
+  void parse_or_exit(int argc, const char* const* argv, std::string_view usage);
   // Whether `flag` (any of its names counts as its first) was given.
   bool given(std::string_view flag) const;
 
