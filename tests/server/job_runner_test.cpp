@@ -32,6 +32,14 @@ struct Runner {
     return *claim;
   }
 
+  // Runs the endless job `claim` on another thread until it has stored a step.
+  std::thread start(const Claim& claim, std::stop_source stop, std::atomic<StopReason>& reason) {
+    std::thread t([this, claim, stop, &reason] { runner.run("worker-1", claim, stop, reason); });
+    while (store.find(claim.record.id)->step < 1)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return t;
+  }
+
   DirectoryStore store;
   Metrics metrics;
   Watchdog watchdog;
@@ -71,11 +79,8 @@ TEST(JobRunner, ACancelInTheStoreEndsTheJobCancelled) {
   const Claim claim = r.queue(test::small_scene_json(0, true));
   std::stop_source stop;
   std::atomic<StopReason> reason{StopReason::None};
+  std::thread runner = r.start(claim, stop, reason);
   // The store hears the DELETE; the worker hears it at its next step.
-  std::thread runner([&] { r.runner.run("worker-1", claim, stop, reason); });
-  test::wait_for(r.store, claim.record.id, JobState::Running);
-  while (r.store.find(claim.record.id)->step < 1)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   EXPECT_EQ(r.store.cancel_or_delete(claim.record.id), Store::Removal::Cancelled);
   runner.join();
   EXPECT_EQ(r.store.find(claim.record.id)->state, JobState::Cancelled);
@@ -86,9 +91,7 @@ TEST(JobRunner, AtShutdownTheJobIsGivenBack) {
   const Claim claim = r.queue(test::small_scene_json(0, true));
   std::stop_source stop;
   std::atomic<StopReason> reason{StopReason::None};
-  std::thread runner([&] { r.runner.run("worker-1", claim, stop, reason); });
-  while (r.store.find(claim.record.id)->step < 1)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::thread runner = r.start(claim, stop, reason);
   reason = StopReason::Shutdown;
   stop.request_stop();
   runner.join();
