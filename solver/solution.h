@@ -10,9 +10,9 @@
 
 #include "solver/radiosity/near_field.h"
 #include "solver/radiosity/perturbed_map.h"
+#include "solver/radiosity/solve_stats.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
-#include "solver/solve_stats.h"
 #include "solver/util/image.h"
 
 namespace bumprad {

@@ -15,11 +15,11 @@
 #include "solver/radiosity/hemicube.h"
 #include "solver/radiosity/residuals.h"
 #include "solver/radiosity/shot_form_factors.h"
+#include "solver/radiosity/solve_stats.h"
 #include "solver/radiosity/specular_transfer.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/scene/scene.h"
-#include "solver/solve_stats.h"
 #include "solver/util/random.h"
 
 namespace bumprad {
