@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 
+#include "cli/command.h"
 #include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
@@ -46,45 +47,38 @@ ReferenceArgs parse_args(std::span<const std::string_view> args) {
   return r;
 }
 
+int run_reference(std::span<const std::string_view> args) {
+  const ReferenceArgs a = parse_args(args);
+  Scene scene = load_scene(a.scene);
+  if (!a.bump.empty()) apply_bump_file(a.bump, scene);
+  const Mesh mesh = build_mesh(scene);
+  const RayScene rays(mesh);
+  // On a terminal the progress line rewrites itself; in a log, a line every 10 %.
+  const bool tty = ::isatty(STDERR_FILENO);
+  const auto t0 = Clock::now();
+  std::mutex mutex;
+  int shown = -1;
+  Image image = render_reference(scene, mesh, rays, a.settings, [&](double done) {
+    std::lock_guard lock(mutex);
+    const int percent = int(100 * done);
+    if (percent == shown || (!tty && percent % 10 != 0)) return;
+    shown = percent;
+    std::fprintf(stderr, "%sbumprad reference: %3d%%, %.1f s%s", tty ? "\r" : "", percent,
+                 seconds_since(t0), tty ? "" : "\n");
+  });
+  if (tty) std::fputc('\n', stderr);
+  write_image(a.output, image, scene.camera.exposure);
+  std::printf("wrote %s (%dx%d): %d samples a pixel, seed %llu, %zu elements, %.2f s\n",
+              a.output.c_str(), image.width, image.height, a.settings.samples_per_pixel,
+              static_cast<unsigned long long>(a.settings.seed), mesh.elements.size(),
+              seconds_since(t0));
+  return 0;
+}
+
 }  // namespace
 
 int reference_command(std::span<const std::string_view> args) {
-  ReferenceArgs a;
-  try {
-    a = parse_args(args);
-  } catch (const UsageError& e) {
-    std::cerr << "bumprad reference: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
-  try {
-    Scene scene = load_scene(a.scene);
-    if (!a.bump.empty()) apply_bump_file(a.bump, scene);
-    const Mesh mesh = build_mesh(scene);
-    const RayScene rays(mesh);
-    // On a terminal the progress line rewrites itself; in a log, a line every 10 %.
-    const bool tty = ::isatty(STDERR_FILENO);
-    const auto t0 = Clock::now();
-    std::mutex mutex;
-    int shown = -1;
-    Image image = render_reference(scene, mesh, rays, a.settings, [&](double done) {
-      std::lock_guard lock(mutex);
-      const int percent = int(100 * done);
-      if (percent == shown || (!tty && percent % 10 != 0)) return;
-      shown = percent;
-      std::fprintf(stderr, "%sbumprad reference: %3d%%, %.1f s%s", tty ? "\r" : "", percent,
-                   seconds_since(t0), tty ? "" : "\n");
-    });
-    if (tty) std::fputc('\n', stderr);
-    write_image(a.output, image, scene.camera.exposure);
-    std::printf("wrote %s (%dx%d): %d samples a pixel, seed %llu, %zu elements, %.2f s\n",
-                a.output.c_str(), image.width, image.height, a.settings.samples_per_pixel,
-                static_cast<unsigned long long>(a.settings.seed), mesh.elements.size(),
-                seconds_since(t0));
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "bumprad: error: " << e.what() << "\n";
-    return 1;
-  }
+  return run_command("reference", kUsage, args, run_reference);
 }
 
 }  // namespace bumprad

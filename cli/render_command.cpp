@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/command.h"
 #include "common/args.h"
 #include "common/atomic_file.h"
 #include "common/stopwatch.h"
@@ -89,64 +90,54 @@ void print_summary(const std::string& output, const Image& image, const Scene& s
                 stats.seconds_texture);
 }
 
+int run_render(std::span<const std::string_view> args) {
+  const RenderArgs a = parse_args(args);
+  std::string scene_json;
+  Scene scene = load_scene(a.scene, &scene_json);
+  try {
+    apply_solver_settings(a.overrides, scene.solver, "");
+  } catch (const SceneError& e) {
+    const std::string flag = e.pointer() == "/max_shots"   ? "--shots"
+                             : e.pointer() == "/tolerance" ? "--tolerance"
+                                                           : "--hemicube";
+    std::string msg = e.what();
+    throw UsageError(flag + msg.substr(msg.find(':')));
+  }
+  if (!a.bump.empty()) apply_bump_file(a.bump, scene);
+
+  // On a terminal the progress line rewrites itself every step; in a log, a line a second.
+  const bool tty = ::isatty(STDERR_FILENO);
+  auto last_line = Clock::now();
+  Solution solution = solve(scene, [&](const Snapshot& s, const Solution&) {
+    if (!tty && !s.final && seconds_since(last_line) < 1) return true;
+    last_line = Clock::now();
+    std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
+                 scene.solver.max_shots, 100 * s.unshot_fraction, tty ? "" : "\n");
+    return true;
+  });
+  if (tty) std::fputc('\n', stderr);
+
+  auto t1 = Clock::now();
+  Image image = render(scene, solution);
+  write_image(a.output, image, scene.camera.exposure);
+  double seconds_view = seconds_since(t1);
+
+  if (!a.solution.empty())
+    write_file_atomically(
+        a.solution, solution_to_json(scene, *solution.mesh, solution.radiosity, solution.stats));
+  print_summary(a.output, image, scene, solution, seconds_view);
+  if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
+  if (!a.save_map.empty()) {
+    save_solution(a.save_map, scene_json, solution);
+    std::printf("wrote %s (re-texture it with `bumprad retexture`)\n", a.save_map.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int render_command(std::span<const std::string_view> args) {
-  RenderArgs a;
-  try {
-    a = parse_args(args);
-  } catch (const UsageError& e) {
-    std::cerr << "bumprad render: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
-  try {
-    std::string scene_json;
-    Scene scene = load_scene(a.scene, &scene_json);
-    try {
-      apply_solver_settings(a.overrides, scene.solver, "");
-    } catch (const SceneError& e) {
-      const std::string flag = e.pointer() == "/max_shots"   ? "--shots"
-                               : e.pointer() == "/tolerance" ? "--tolerance"
-                                                             : "--hemicube";
-      std::string msg = e.what();
-      throw UsageError(flag + msg.substr(msg.find(':')));
-    }
-    if (!a.bump.empty()) apply_bump_file(a.bump, scene);
-
-    // On a terminal the progress line rewrites itself every step; in a log, a line a second.
-    const bool tty = ::isatty(STDERR_FILENO);
-    auto last_line = Clock::now();
-    Solution solution = solve(scene, [&](const Snapshot& s, const Solution&) {
-      if (!tty && !s.final && seconds_since(last_line) < 1) return true;
-      last_line = Clock::now();
-      std::fprintf(stderr, "%sbumprad: shot %d/%d, unshot %.2f%%%s", tty ? "\r" : "", s.shots,
-                   scene.solver.max_shots, 100 * s.unshot_fraction, tty ? "" : "\n");
-      return true;
-    });
-    if (tty) std::fputc('\n', stderr);
-
-    auto t1 = Clock::now();
-    Image image = render(scene, solution);
-    write_image(a.output, image, scene.camera.exposure);
-    double seconds_view = seconds_since(t1);
-
-    if (!a.solution.empty())
-      write_file_atomically(
-          a.solution, solution_to_json(scene, *solution.mesh, solution.radiosity, solution.stats));
-    print_summary(a.output, image, scene, solution, seconds_view);
-    if (!a.solution.empty()) std::printf("wrote %s\n", a.solution.c_str());
-    if (!a.save_map.empty()) {
-      save_solution(a.save_map, scene_json, solution);
-      std::printf("wrote %s (re-texture it with `bumprad retexture`)\n", a.save_map.c_str());
-    }
-    return 0;
-  } catch (const UsageError& e) {
-    std::cerr << "bumprad render: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "bumprad: error: " << e.what() << "\n";
-    return 1;
-  }
+  return run_command("render", kUsage, args, run_render);
 }
 
 }  // namespace bumprad

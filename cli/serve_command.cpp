@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cli/command.h"
 #include "common/args.h"
 #include "server/server.h"
 
@@ -108,43 +109,15 @@ NodeOptions parse_worker_args(std::span<const std::string_view> args) {
 }  // namespace
 
 int serve_command(std::span<const std::string_view> args) {
-  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
-    std::cout << kUsage;
-    return 0;
-  }
-  ServerOptions options;
-  try {
-    options = parse_serve_args(args);
-  } catch (const UsageError& e) {
-    std::cerr << "bumprad serve: " << e.what() << "\n" << kUsage;
-    return 2;
-  }
-  try {
-    return run_server(options);
-  } catch (const std::exception& e) {
-    std::cerr << "bumprad serve: " << e.what() << "\n";
-    return 1;
-  }
+  return run_command("serve", kUsage, args, [](std::span<const std::string_view> a) {
+    return run_server(parse_serve_args(a));
+  });
 }
 
 int worker_command(std::span<const std::string_view> args) {
-  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
-    std::cout << kWorkerUsage;
-    return 0;
-  }
-  NodeOptions options;
-  try {
-    options = parse_worker_args(args);
-  } catch (const UsageError& e) {
-    std::cerr << "bumprad worker: " << e.what() << "\n" << kWorkerUsage;
-    return 2;
-  }
-  try {
-    return run_worker(options);
-  } catch (const std::exception& e) {
-    std::cerr << "bumprad worker: " << e.what() << "\n";
-    return 1;
-  }
+  return run_command("worker", kWorkerUsage, args, [](std::span<const std::string_view> a) {
+    return run_worker(parse_worker_args(a));
+  });
 }
 
 }  // namespace bumprad
