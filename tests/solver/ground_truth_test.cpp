@@ -123,9 +123,8 @@ double pixel_error(const Image& a, const Image& r, const Image& s) {
 // The error a job reports (solver/render/error_estimate.cpp: 1,024 of the view's pixels traced
 // with 1,024 paths each, their noise taken out) against the error measured on the whole
 // reference image, for a good solution and a poor one (stopped at 40 % unshot). Measured:
-// truth 1.95 % / 2.95 %, estimated 2.52 +- 0.24 % / 3.32 +- 0.23 % (with 256 paths 2.09 +-
-// 0.58 / 3.15 +- 0.57, with 2,048 1.83 +- 0.17 / 2.82 +- 0.08). Bound: 3 standard errors or
-// a third of the truth. (Before the path tracer's paths were seeded independently this
+// truth 1.38 % / 3.41 %, estimated 1.45 +- 0.25 % / 3.64 +- 0.16 %. Bound: 3 standard
+// errors or a third of the truth. (Before the path tracer's paths were seeded independently this
 // estimate read 10 %: a pixel's paths replayed each other's numbers, so their spread said
 // nothing of the pixel's noise.)
 TEST_F(GroundTruth, TheEstimatedErrorIsTheErrorAgainstTheReference) {
@@ -145,8 +144,8 @@ TEST_F(GroundTruth, TheEstimatedErrorIsTheErrorAgainstTheReference) {
 
 // solver.tolerance: a solve that would stop at 40 % unshot shoots on until its estimated
 // error is within the tolerance (or stops falling), and the image then is that close to the
-// reference. Measured: 36 shots without it; with 2.5 %, 146 shots (13 % unshot), estimated
-// 1.14 +- 0.21 %, 2.05 % against the whole reference (a stopping rule picks the rounds whose
+// reference. Measured: 63 shots without it; with 2.5 %, 96 shots (13 % unshot), estimated
+// 2.41 +- 0.22 %, 2.67 % against the whole reference (a stopping rule picks the rounds whose
 // estimate came out low: the bound allows three standard errors).
 TEST_F(GroundTruth, ASolveWithAToleranceShootsOnUntilItsImageIsThatClose) {
   Scene scene = small_room(DirectLight::Exact);
