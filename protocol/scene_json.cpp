@@ -249,6 +249,14 @@ TriangleMeshShape parse_triangle_mesh(const Node& n) {
     m.triangles.push_back(tri);
   }
   if (auto v = n.get("smooth")) m.smooth = v->boolean();
+  if (auto v = n.get("uvs")) {
+    v->array(np, np);  // one [u, v] per position
+    for (std::size_t i = 0; i < np; ++i) {
+      Node uv = (*v)[i];
+      uv.array(2, 2);
+      m.uvs.push_back({uv[0].within_limit(uv[0].number()), uv[1].within_limit(uv[1].number())});
+    }
+  }
   return m;
 }
 
@@ -305,7 +313,7 @@ Object parse_object(const Node& n, std::size_t index,
     if (auto v = n.get("caps")) c.caps = v->boolean();
     o.shape = c;
   } else if (type == "mesh") {
-    allow({"positions", "triangles", "smooth"});
+    allow({"positions", "triangles", "smooth", "uvs"});
     o.shape = parse_triangle_mesh(n);
   } else {
     n["type"].fail("unknown object type \"" + type +

@@ -160,15 +160,20 @@ class SurfaceBuilder {
   void begin_surface() {
     surface_ = mesh_.surface_count++;
     first_vertex_ = std::uint32_t(mesh_.vertices.size());
+    shading_.clear();
   }
 
-  std::uint32_t add_vertex(const Vec3& p, glm::dvec2 uv, const Vec3& dpdu, const Vec3& dpdv) {
+  // `shading`: a normal that must also agree for the vertex to be welded (zero: none).
+  std::uint32_t add_vertex(const Vec3& p, glm::dvec2 uv, const Vec3& dpdu, const Vec3& dpdv,
+                           const Vec3& shading = Vec3(0)) {
     mesh_.vertices.push_back({p, Vec3(0), uv, dpdu, dpdv});
+    shading_.push_back(shading);
     return std::uint32_t(mesh_.vertices.size() - 1);
   }
 
-  // Merges coincident vertices added since begin_surface() (sort-and-sweep along x).
-  void weld() {
+  // Merges coincident vertices added since begin_surface() (sort-and-sweep along x); with
+  // `match_uv` or `match_shading`, only those whose (u, v) or shading normals agree too.
+  void weld(bool match_uv = false, bool match_shading = false) {
     std::uint32_t n = std::uint32_t(mesh_.vertices.size()) - first_vertex_;
     remap_.resize(n);
     std::vector<std::uint32_t> order(n);
@@ -183,7 +188,10 @@ class SurfaceBuilder {
         std::uint32_t b = order[j];
         if (vs[b].position.x - vs[a].position.x > weld_tol_) break;
         if (glm::length(vs[b].position - vs[a].position) <= weld_tol_ &&
-            remap_[b - first_vertex_] == b)
+            remap_[b - first_vertex_] == b &&
+            (!match_uv || glm::length(vs[b].uv - vs[a].uv) <= 1e-9) &&
+            (!match_shading ||
+             glm::length(shading_[b - first_vertex_] - shading_[a - first_vertex_]) <= 1e-3))
           remap_[b - first_vertex_] = a;
       }
     }
@@ -250,6 +258,7 @@ class SurfaceBuilder {
   std::uint32_t surface_ = 0;
   std::uint32_t first_vertex_ = 0;
   std::vector<std::uint32_t> remap_;
+  std::vector<Vec3> shading_;  // per vertex since begin_surface(), for weld()
   std::map<std::uint64_t, std::uint32_t> patch_keys_;
   std::vector<std::vector<Element>> pending_;
 };
@@ -286,6 +295,26 @@ void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
   sb.end_surface();
 }
 
+// A triangle's (u, v) as an affine map of its barycentric coordinates, and the tangents
+// dp/du, dp/dv that go with it. With the mesh's own uvs the tangents follow them (the
+// convention of MikkTSpace per triangle: dp/du along increasing u); where those uvs are
+// degenerate on a triangle, or there are none, the triangle's own parameterisation.
+struct TriangleUv {
+  glm::dvec2 origin, along_b, along_c;
+  Vec3 dpdu, dpdv;
+};
+TriangleUv triangle_uv(const TriangleMeshShape& m, const std::array<std::uint32_t, 3>& t) {
+  const Vec3 e1 = m.positions[t[1]] - m.positions[t[0]], e2 = m.positions[t[2]] - m.positions[t[0]];
+  TriangleUv own{{0, 0}, {1, 0}, {0, 1}, e1, e2};
+  if (m.uvs.empty()) return own;
+  const glm::dvec2 u0 = m.uvs[t[0]], d1 = m.uvs[t[1]] - u0, d2 = m.uvs[t[2]] - u0;
+  const double det = d1.x * d2.y - d1.y * d2.x;
+  const double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
+  if (!(std::abs(det) > 1e-12 * scale)) return {u0, d1, d2, e1, e2};
+  // [e1 e2] = [dpdu dpdv] [d1 d2]: invert the 2 x 2 uv matrix.
+  return {u0, d1, d2, (e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
+}
+
 // Each input triangle is split into n^2 triangles on a barycentric grid (i, j); row j holds
 // n + 1 - j vertices. Patches group k x k grid cells and never span two input triangles.
 void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDensity& d,
@@ -310,11 +339,17 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
   };
   auto add_grid = [&](const std::array<std::uint32_t, 3>& t) {
     Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    const TriangleUv map = triangle_uv(m, t);
     TriangleGrid g{triangle_subdivisions(m, t, d, size), 0};
     for (int j = 0; j <= g.n; ++j)
       for (int i = 0; i + j <= g.n; ++i) {
         double u = double(i) / g.n, v = double(j) / g.n;
-        std::uint32_t id = sb.add_vertex(a + u * (b - a) + v * (c - a), {u, v}, b - a, c - a);
+        Vec3 shading(0);
+        if (!m.normals.empty())
+          shading = (1 - u - v) * m.normals[t[0]] + u * m.normals[t[1]] + v * m.normals[t[2]];
+        std::uint32_t id = sb.add_vertex(a + u * (b - a) + v * (c - a),
+                                         map.origin + u * map.along_b + v * map.along_c, map.dpdu,
+                                         map.dpdv, shading);
         if (i == 0 && j == 0) g.first_vertex = id;
       }
     return g;
@@ -323,7 +358,7 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     sb.begin_surface();
     std::vector<TriangleGrid> grids;
     for (const auto& t : m.triangles) grids.push_back(add_grid(t));
-    sb.weld();
+    sb.weld(!m.uvs.empty(), !m.normals.empty());
     for (std::size_t t = 0; t < grids.size(); ++t) emit(t, grids[t]);
     sb.end_surface();
     return;

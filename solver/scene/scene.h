@@ -104,6 +104,13 @@ struct TriangleMeshShape {
   std::vector<Vec3> positions;
   std::vector<std::array<std::uint32_t, 3>> triangles;
   bool smooth = false;  // share vertices (and interpolate radiosity) across triangles
+  // Per position, or empty. With `uvs` a bump function or texture is evaluated at the
+  // mesh's own (u, v), continuous across triangles; without, each triangle has its own
+  // (u, v) in [0,1]^2. With `normals` (a model's shading normals), a smooth mesh shares a
+  // vertex between triangles only where position, normal and (u, v) all agree: creases and
+  // UV seams stay apart.
+  std::vector<glm::dvec2> uvs;
+  std::vector<Vec3> normals;
 };
 using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
 

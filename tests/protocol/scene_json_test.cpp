@@ -188,6 +188,15 @@ TEST(SceneJson, DegeneratePolygons) {
   expect_rejected(d, "/objects/0/triangles/0", "degenerate triangle: zero area");
   d["objects"][0]["triangles"] = {{0, 1, 3}};
   expect_rejected(d, "/objects/0/triangles/0/2", "must be between 0 and 2 (got 3)");
+  d["objects"][0]["positions"] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  d["objects"][0]["triangles"] = {{0, 1, 2}};
+  d["objects"][0]["uvs"] = {{0, 0}, {1, 0}};
+  expect_rejected(d, "/objects/0/uvs", "must have exactly 3 entries (got 2)");
+  d["objects"][0]["uvs"] = {{0, 0}, {1, 0}, {0, "one"}};
+  expect_rejected(d, "/objects/0/uvs/2/1", "must be a number");
+  d["objects"][0]["uvs"] = {{0, 0}, {1, 0}, {0, 1}};
+  EXPECT_EQ(std::get<TriangleMeshShape>(parse_scene(d.dump()).objects[0].shape).uvs[2],
+            glm::dvec2(0, 1));
 }
 
 TEST(SceneJson, ReflectanceMustStayBelowOne) {

@@ -3,6 +3,7 @@
 #include "solver/scene/mesh.h"
 
 #include <numbers>
+#include <set>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -147,6 +148,74 @@ TEST(Mesh, TriangleMeshSubdividesAndWeldsWhenSmooth) {
     for (int u : uses) used += u > 0;
     EXPECT_EQ(used, smooth ? 16 : 20);  // the diagonal's 4 points shared, or not
   }
+}
+
+}  // namespace
+}  // namespace bumprad
+
+namespace bumprad {
+namespace {
+
+// The vertices the elements use (welding leaves the others unused).
+std::size_t used_vertices(const Mesh& m) {
+  std::set<std::uint32_t> used;
+  for (const Element& e : m.elements)
+    for (int k = 0; k < e.vertex_count; ++k) used.insert(e.v[std::size_t(k)]);
+  return used.size();
+}
+
+// One element per input triangle.
+Scene whole(TriangleMeshShape m) {
+  MeshDensity d;
+  d.counts = {1, 0};
+  return one(std::move(m), d);
+}
+
+// A 2 x 1 rectangle in z = 0 facing up as two triangles over positions 0-3, with (u, v) the
+// position scaled to [0,1]^2: the mesh's own parameterisation.
+TriangleMeshShape uv_rectangle() {
+  TriangleMeshShape m;
+  m.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  m.smooth = true;
+  return m;
+}
+
+TEST(Mesh, TriangleMeshUvsAreContinuousAcrossTrianglesWithTangentsThatFollowThem) {
+  MeshDensity d;
+  d.counts = {4, 0};  // 4 subdivisions a triangle edge
+  const Mesh m = build_mesh(one(uv_rectangle(), d));
+  // The grids of both triangles share the diagonal's 5 vertices: 15 + 15 - 5.
+  EXPECT_EQ(used_vertices(m), 25u);
+  for (const Vertex& v : m.vertices) {
+    EXPECT_NEAR(v.uv.x, v.position.x / 2, 1e-12);
+    EXPECT_NEAR(v.uv.y, v.position.y, 1e-12);
+    EXPECT_NEAR(glm::length(v.dpdu - Vec3(2, 0, 0)), 0, 1e-12);
+    EXPECT_NEAR(glm::length(v.dpdv - Vec3(0, 1, 0)), 0, 1e-12);
+  }
+}
+
+TEST(Mesh, UvSeamsAndCreasesKeepTheirVerticesApart) {
+  TriangleMeshShape seam = uv_rectangle();
+  // Position 4 is position 2 again with other (u, v): the second triangle lies across a seam.
+  seam.positions.push_back(seam.positions[2]);
+  seam.uvs.push_back({0.5, 0.5});
+  seam.triangles[1] = {0, 4, 3};
+  EXPECT_EQ(used_vertices(build_mesh(whole(seam))), 5u);  // 4 welded to nothing
+  TriangleMeshShape joined = uv_rectangle();
+  EXPECT_EQ(used_vertices(build_mesh(whole(joined))), 4u);
+
+  // Shading normals that disagree (a crease the model keeps sharp) split the shared edge.
+  TriangleMeshShape crease = uv_rectangle();
+  crease.uvs.clear();
+  crease.positions.push_back(crease.positions[0]);
+  crease.positions.push_back(crease.positions[2]);
+  crease.triangles[1] = {4, 5, 3};
+  crease.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0.6, 0.8}, {0, 0.6, 0.8}, {0, 0.6, 0.8}};
+  EXPECT_EQ(used_vertices(build_mesh(whole(crease))), 6u);
+  crease.normals.assign(6, {0, 0, 1});
+  EXPECT_EQ(used_vertices(build_mesh(whole(crease))), 4u);
 }
 
 }  // namespace
