@@ -195,8 +195,7 @@ TEST(SceneJson, DegeneratePolygons) {
   d["objects"][0]["uvs"] = {{0, 0}, {1, 0}, {0, "one"}};
   expect_rejected(d, "/objects/0/uvs/2/1", "must be a number");
   d["objects"][0]["uvs"] = {{0, 0}, {1, 0}, {0, 1}};
-  EXPECT_EQ(std::get<TriangleMeshShape>(parse_scene(d.dump()).objects[0].shape).uvs[2],
-            glm::dvec2(0, 1));
+  EXPECT_EQ(std::get<TriangleMeshShape>(parse_scene(d).objects[0].shape).uvs[2], glm::dvec2(0, 1));
 }
 
 TEST(SceneJson, ReflectanceMustStayBelowOne) {
