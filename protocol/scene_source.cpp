@@ -1,10 +1,12 @@
 #include "protocol/scene_source.h"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "protocol/builtin_scenes.h"
+#include "protocol/model_import.h"
 #include "protocol/scene_json.h"
 
 #include <nlohmann/json.hpp>
@@ -29,6 +31,13 @@ std::string load_scene_text(const std::string& source) {
 }
 
 Scene load_scene(const std::string& source, std::string* text_out) {
+  if (source.rfind("builtin:", 0) != 0 && is_model_file(source)) {
+    if (text_out) text_out->clear();
+    const ImportedModel model = import_model(source);
+    for (const std::string& w : model.warnings)
+      std::fprintf(stderr, "bumprad: warning: %s\n", w.c_str());
+    return scene_from_model(model);
+  }
   std::string text = load_scene_text(source);
   if (text_out) *text_out = text;
   try {

@@ -1,4 +1,5 @@
-// Where a command-line scene comes from: "builtin:NAME" or a JSON file on disk.
+// Where a command-line scene comes from: "builtin:NAME", a JSON file on disk, or a model file
+// (.glb, .gltf, .obj, .fbx and the rest Assimp reads; protocol/model_import.h).
 #pragma once
 
 #include <string>
@@ -11,7 +12,8 @@ namespace bumprad {
 std::string load_scene_text(const std::string& source);
 
 // Throws std::runtime_error (unknown built-in, unreadable or invalid file). With `text`,
-// also hands back the JSON it parsed (what a saved solution keeps).
+// also hands back the JSON it parsed (what a saved solution keeps); empty for a model file,
+// which has none. A model's warnings go to stderr.
 Scene load_scene(const std::string& source, std::string* text = nullptr);
 
 // Applies a bump file (the JSON of a scene's "bumps" block) to `scene`, replacing bump

@@ -1,0 +1,226 @@
+#include "protocol/model_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+#include <glm/geometric.hpp>
+
+#include "solver/scene/mesh.h"
+
+namespace bumprad {
+namespace {
+
+// Reflectances stay below 1 (the solve would not converge); a white base colour of 1.0 is
+// read as this.
+constexpr double kMaxReflectance = 0.99;
+
+Vec3 vec(const aiVector3D& v) {
+  return {v.x, v.y, v.z};
+}
+
+bool finite_within_limit(const Vec3& p) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(p[k]) || std::abs(p[k]) > Limits::kMaxMagnitude) return false;
+  return true;
+}
+
+class Reader {
+ public:
+  Reader(const std::filesystem::path& file, const aiScene& scene) : file_(file), scene_(scene) {}
+
+  ImportedModel read() {
+    for (unsigned i = 0; i < scene_.mNumMaterials; ++i) read_material(*scene_.mMaterials[i]);
+    if (model_.materials.empty()) {
+      Material fallback;
+      fallback.name = "default";
+      model_.materials.push_back(fallback);
+    }
+    visit(*scene_.mRootNode, aiMatrix4x4());
+    if (model_.objects.empty()) fail("it has no triangles (points and lines are not rendered)");
+    if (dropped_) warn(std::to_string(dropped_) + " degenerate triangles dropped");
+    if (std::none_of(model_.materials.begin(), model_.materials.end(),
+                     [](const Material& m) { return m.emission != Rgb(0); }))
+      warn("no material emits light: the image will be black");
+    read_camera();
+    return std::move(model_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw ModelError(file_.string() + ": " + why);
+  }
+  void warn(const std::string& what) { model_.warnings.push_back(file_.string() + ": " + what); }
+
+  // Base colour (glTF's baseColorFactor, else the diffuse colour: OBJ's Kd) as the diffuse
+  // reflectance; emissive colour times its strength (KHR_materials_emissive_strength) as
+  // radiance, so emission (radiosity) is pi times it, as Cycles reads the same file.
+  void read_material(const aiMaterial& m) {
+    Material out;
+    out.name = m.GetName().C_Str();
+    if (out.name.empty()) out.name = "material " + std::to_string(model_.materials.size());
+    aiColor4D base(0.8f, 0.8f, 0.8f, 1);
+    if (m.Get(AI_MATKEY_BASE_COLOR, base) != AI_SUCCESS) m.Get(AI_MATKEY_COLOR_DIFFUSE, base);
+    out.reflectance = {base.r, base.g, base.b};
+    if (glm::any(glm::greaterThan(out.reflectance, Rgb(kMaxReflectance)))) {
+      out.reflectance = glm::min(out.reflectance, Rgb(kMaxReflectance));
+      warn("material \"" + out.name + "\": base colour above 0.99 read as 0.99");
+    }
+    if (!(glm::all(glm::greaterThanEqual(out.reflectance, Rgb(0)))))
+      fail("material \"" + out.name + "\": its base colour is negative or not a number");
+    aiColor3D emissive(0, 0, 0);
+    float strength = 1;
+    m.Get(AI_MATKEY_COLOR_EMISSIVE, emissive);
+    m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength);
+    out.emission = std::numbers::pi * double(strength) * Rgb(emissive.r, emissive.g, emissive.b);
+    if (!(glm::all(glm::greaterThanEqual(out.emission, Rgb(0)))) ||
+        !std::isfinite(out.emission.r + out.emission.g + out.emission.b))
+      fail("material \"" + out.name + "\": its emission is negative or not a number");
+    model_.materials.push_back(out);
+  }
+
+  void visit(const aiNode& node, const aiMatrix4x4& parent) {
+    const aiMatrix4x4 to_world = parent * node.mTransformation;
+    for (unsigned i = 0; i < node.mNumMeshes; ++i)
+      add_mesh(node, *scene_.mMeshes[node.mMeshes[i]], to_world);
+    for (unsigned i = 0; i < node.mNumChildren; ++i) visit(*node.mChildren[i], to_world);
+  }
+
+  void add_mesh(const aiNode& node, const aiMesh& mesh, const aiMatrix4x4& to_world) {
+    if (!(mesh.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return;
+    std::string name = node.mName.C_Str();
+    if (mesh.mName.length > 0 && name != mesh.mName.C_Str())
+      name += std::string("/") + mesh.mName.C_Str();
+    TriangleMeshShape shape;
+    shape.smooth = true;
+    aiMatrix3x3 normal_matrix(to_world);
+    normal_matrix.Inverse().Transpose();
+    // A mirroring transform turns the triangles inside out: their winding flips back.
+    const bool mirrored = aiMatrix3x3(to_world).Determinant() < 0;
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const Vec3 p = vec(to_world * mesh.mVertices[v]);
+      if (!finite_within_limit(p))
+        fail("mesh \"" + name + "\": vertex " + std::to_string(v) +
+             " is not a finite point within 1e12");
+      shape.positions.push_back(p);
+      if (mesh.mNormals) {
+        const Vec3 n = vec(normal_matrix * mesh.mNormals[v]);
+        shape.normals.push_back(glm::length(n) > 0 ? glm::normalize(n) : n);
+      }
+      // Assimp gives v up the texture (OpenGL's convention); bumprad's images run down their
+      // rows, as glTF's texture coordinates do.
+      if (mesh.mTextureCoords[0])
+        shape.uvs.push_back({mesh.mTextureCoords[0][v].x, 1 - double(mesh.mTextureCoords[0][v].y)});
+    }
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const aiFace& face = mesh.mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      std::array<std::uint32_t, 3> t{face.mIndices[0], face.mIndices[1], face.mIndices[2]};
+      if (mirrored) std::swap(t[1], t[2]);
+      const Vec3 a = shape.positions[t[0]], b = shape.positions[t[1]], c = shape.positions[t[2]];
+      const double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+      if (!(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale)) {
+        ++dropped_;
+        continue;
+      }
+      shape.triangles.push_back(t);
+    }
+    if (shape.triangles.empty()) return;
+    if (shape.uvs.empty())
+      warn("mesh \"" + name +
+           "\" has no texture coordinates: bump functions use each triangle's own (u, v)");
+    for (const Vec3& p : shape.positions) grow(p);
+    Object o;
+    o.name = name;
+    o.material =
+        int(std::min<unsigned>(mesh.mMaterialIndex, unsigned(model_.materials.size() - 1)));
+    o.shape = std::move(shape);
+    model_.objects.push_back(std::move(o));
+  }
+
+  void grow(const Vec3& p) {
+    if (!any_) model_.bounds_min = model_.bounds_max = p;
+    model_.bounds_min = glm::min(model_.bounds_min, p);
+    model_.bounds_max = glm::max(model_.bounds_max, p);
+    any_ = true;
+  }
+
+  // The first camera, placed by its node; Assimp gives half the horizontal field of view.
+  void read_camera() {
+    if (scene_.mNumCameras == 0) return;
+    const aiCamera& cam = *scene_.mCameras[0];
+    const aiNode* node = scene_.mRootNode->FindNode(cam.mName);
+    aiMatrix4x4 to_world;
+    for (const aiNode* n = node; n; n = n->mParent) to_world = n->mTransformation * to_world;
+    Camera c;
+    c.position = vec(to_world * cam.mPosition);
+    c.look_at = vec(to_world * (cam.mPosition + cam.mLookAt));
+    c.up = glm::normalize(vec(aiMatrix3x3(to_world) * cam.mUp));
+    const double aspect = cam.mAspect > 0 ? cam.mAspect : 1;
+    if (cam.mHorizontalFOV > 0)
+      c.fov_y_deg =
+          2 * std::atan(std::tan(double(cam.mHorizontalFOV)) / aspect) * 180 / std::numbers::pi;
+    c.width = 512;
+    c.height = std::max(1, int(std::lround(512 / aspect)));
+    if (!finite_within_limit(c.position) || !finite_within_limit(c.look_at) ||
+        !(c.fov_y_deg > 0 && c.fov_y_deg < 180))
+      fail("camera \"" + std::string(cam.mName.C_Str()) + "\" is not usable");
+    model_.camera = c;
+  }
+
+  const std::filesystem::path& file_;
+  const aiScene& scene_;
+  ImportedModel model_;
+  bool any_ = false;
+  std::size_t dropped_ = 0;
+};
+
+}  // namespace
+
+bool is_model_file(const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  return !ext.empty() && ext != ".json" && Assimp::Importer().IsExtensionSupported(ext);
+}
+
+ImportedModel import_model(const std::filesystem::path& file) {
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene =
+      importer.ReadFile(file.string(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                           aiProcess_SortByPType | aiProcess_GenNormals |
+                                           aiProcess_ValidateDataStructure);
+  if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
+    throw ModelError(file.string() + ": " +
+                     (std::filesystem::exists(file) ? importer.GetErrorString() : "no such file"));
+  return Reader(file, *scene).read();
+}
+
+Scene scene_from_model(const ImportedModel& model) {
+  Scene scene;
+  scene.materials = model.materials;
+  scene.objects = model.objects;
+  if (model.camera) {
+    scene.camera = *model.camera;
+  } else {
+    // Framed: the bounding sphere fills the 40-degree view from in front (+z, glTF's front).
+    const Vec3 centre = (model.bounds_min + model.bounds_max) / 2.0;
+    const double radius = std::max(1e-9, glm::length(model.bounds_max - model.bounds_min) / 2);
+    const double fov = scene.camera.fov_y_deg * std::numbers::pi / 180;
+    scene.camera.look_at = centre;
+    scene.camera.position = centre + Vec3(0, 0, radius / std::sin(fov / 2));
+    scene.camera.up = {0, 1, 0};
+  }
+  std::size_t elements = 0;
+  const double size = default_element_size(scene);
+  for (const Object& o : scene.objects) elements += estimate_element_count(o, size);
+  if (elements > std::size_t(Limits::kMaxElements))
+    throw ModelError("the model would mesh into about " + std::to_string(elements) +
+                     " elements; at most " + std::to_string(Limits::kMaxElements));
+  return scene;
+}
+
+}  // namespace bumprad

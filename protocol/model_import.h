@@ -1,0 +1,42 @@
+// Models from modelling tools, read with Assimp (glTF 2.0, OBJ with MTL, FBX, COLLADA, PLY and
+// the other formats it reads): each mesh instance with its node transform, per-vertex
+// texture coordinates and shading normals, its material's base colour and emission, and the
+// file's camera, as a scene for bumprad to solve. docs/import.md maps every field.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "solver/scene/scene.h"
+
+namespace bumprad {
+
+// A model that cannot be used as given; the message names the file and, where there is one,
+// the mesh or material.
+class ModelError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ImportedModel {
+  std::vector<Material> materials;
+  std::vector<Object> objects;   // triangle meshes; material indices into `materials`
+  std::optional<Camera> camera;  // the file's first camera
+  Vec3 bounds_min{0}, bounds_max{0};
+  std::vector<std::string> warnings;  // what was dropped or assumed, naming the mesh
+};
+
+// Whether Assimp reads files with this name's extension (.glb, .gltf, .obj, .fbx, ...).
+bool is_model_file(const std::filesystem::path& file);
+
+// Throws ModelError.
+ImportedModel import_model(const std::filesystem::path& file);
+
+// The model as a whole scene: its materials and meshes, its camera or else one framed on it
+// (looking along -z at the model's bounds from in front, 40 degrees high), solver defaults.
+Scene scene_from_model(const ImportedModel& model);
+
+}  // namespace bumprad
