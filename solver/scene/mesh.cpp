@@ -315,8 +315,26 @@ TriangleUv triangle_uv(const TriangleMeshShape& m, const std::array<std::uint32_
   return {u0, d1, d2, (e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
 }
 
+// The patch of a smooth mesh's element: elements share one when their centroids fall in one
+// cube of side `cell` (k element sizes) and their triangles face within one of the six axis
+// directions, so a finely tessellated surface shoots from clusters of neighbouring
+// triangles' elements, never from one patch per triangle, and a crease (a box's edge) still
+// parts its faces' patches. 20 bits of each cell coordinate: a patch would join far cells
+// only in a scene over 2^20 cells (10^6 patch sizes) across.
+std::uint64_t cluster_key(const Vec3& centroid, const Vec3& facing, double cell) {
+  int axis = 0;
+  for (int c = 1; c < 3; ++c)
+    if (std::abs(facing[c]) > std::abs(facing[axis])) axis = c;
+  const std::uint64_t direction = std::uint64_t(2 * axis + (facing[axis] < 0));
+  std::uint64_t key = direction << 60;
+  for (int c = 0; c < 3; ++c)
+    key |= (std::uint64_t(std::int64_t(std::floor(centroid[c] / cell))) & 0xFFFFF) << (40 - 20 * c);
+  return key;
+}
+
 // Each input triangle is split into n^2 triangles on a barycentric grid (i, j); row j holds
-// n + 1 - j vertices. Patches group k x k grid cells and never span two input triangles.
+// n + 1 - j vertices. Patches group k x k grid cells of one input triangle, or, on a smooth
+// mesh, neighbouring elements across triangles (cluster_key).
 void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDensity& d,
                     double size, int k) {
   struct TriangleGrid {
@@ -327,10 +345,15 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     auto id = [&](int i, int j) {
       return g.first_vertex + std::uint32_t(j * (g.n + 1) - j * (j - 1) / 2 + i);
     };
+    const auto& tri = m.triangles[t];
+    const Vec3 a = m.positions[tri[0]], ab = m.positions[tri[1]] - a, ac = m.positions[tri[2]] - a;
     for (int j = 0; j < g.n; ++j)
       for (int i = 0; i + j < g.n; ++i) {
         std::uint64_t key =
             (std::uint64_t(t) << 32) | (std::uint64_t(j / k) << 16) | std::uint64_t(i / k);
+        if (m.smooth)
+          key = cluster_key(a + ((i + 1.0 / 3) / g.n) * ab + ((j + 1.0 / 3) / g.n) * ac,
+                            glm::cross(ab, ac), k * size);
         std::uint32_t patch = sb.patch_for(key);
         sb.add_element(patch, {id(i, j), id(i + 1, j), id(i, j + 1), 0}, 3);
         if (i + j + 1 < g.n)
