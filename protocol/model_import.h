@@ -36,7 +36,8 @@ bool is_model_file(const std::filesystem::path& file);
 ImportedModel import_model(const std::filesystem::path& file);
 
 // The model as a whole scene: its materials and meshes, its camera or else one framed on it
-// (looking along -z at the model's bounds from in front, 40 degrees high), solver defaults.
+// (an object from in front, +z; a room, its faces turned in, from inside by its most open
+// side), solver defaults.
 Scene scene_from_model(const ImportedModel& model);
 
 }  // namespace bumprad

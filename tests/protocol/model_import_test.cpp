@@ -69,6 +69,11 @@ TEST(ModelImport, TheCornellBoxAsObjRendersLikeTheBuiltIn) {
   Scene builtin = load_scene("builtin:cornell");
   Scene imported = load_scene(cornell_as_obj(dir).string());
   ASSERT_EQ(imported.objects.size(), builtin.objects.size());
+  // The file has no camera: the box's faces turn in, so it is framed as a room, from outside
+  // its open side (z < 0, as its own camera stands), looking at its centre.
+  EXPECT_LT(imported.camera.position.z, -500);
+  EXPECT_NEAR(imported.camera.look_at.z, 559.2 / 2, 1);
+  EXPECT_NEAR(imported.camera.position.x, imported.camera.look_at.x, 1e-9);
   for (Scene* s : {&builtin, &imported}) {
     s->camera = builtin.camera;
     s->camera.width = s->camera.height = 96;
