@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 #include <assimp/postprocess.h>
@@ -11,6 +12,8 @@
 #include <glm/geometric.hpp>
 
 #include "solver/scene/mesh.h"
+#include "solver/scene/texture.h"
+#include "solver/util/image.h"
 
 namespace bumprad {
 namespace {
@@ -18,6 +21,10 @@ namespace {
 // Reflectances stay below 1 (the solve would not converge); a white base colour of 1.0 is
 // read as this.
 constexpr double kMaxReflectance = 0.99;
+// Textures are refused from their header beyond this (8192^2): decoded, one takes 12 bytes a
+// pixel.
+constexpr std::size_t kMaxTexturePixels =
+    std::size_t(Limits::kMaxImageSide) * Limits::kMaxImageSide;
 
 Vec3 vec(const aiVector3D& v) {
   return {v.x, v.y, v.z};
@@ -66,12 +73,26 @@ class Reader {
     aiColor4D base(0.8f, 0.8f, 0.8f, 1);
     if (m.Get(AI_MATKEY_BASE_COLOR, base) != AI_SUCCESS) m.Get(AI_MATKEY_COLOR_DIFFUSE, base);
     out.reflectance = {base.r, base.g, base.b};
-    if (glm::any(glm::greaterThan(out.reflectance, Rgb(kMaxReflectance)))) {
-      out.reflectance = glm::min(out.reflectance, Rgb(kMaxReflectance));
-      warn("material \"" + out.name + "\": base colour above 0.99 read as 0.99");
-    }
     if (!(glm::all(glm::greaterThanEqual(out.reflectance, Rgb(0)))))
       fail("material \"" + out.name + "\": its base colour is negative or not a number");
+    bool clamped = false;
+    if (auto image = base_colour_texture(m, out.name)) {
+      // glTF: base colour = factor x texture (sRGB decoded), per texel.
+      for (std::size_t i = 0; i < image->rgb.size(); ++i) {
+        const float v = image->rgb[i] * float(out.reflectance[int(i % 3)]);
+        clamped = clamped || v > float(kMaxReflectance);
+        image->rgb[i] = std::min(v, float(kMaxReflectance));
+      }
+      ColorTexture t;
+      t.kind = ColorTexture::Kind::Image;
+      t.image = std::move(image);
+      out.texture = std::move(t);
+      out.reflectance = texture_mean(*out.texture);
+    } else if (glm::any(glm::greaterThan(out.reflectance, Rgb(kMaxReflectance)))) {
+      out.reflectance = glm::min(out.reflectance, Rgb(kMaxReflectance));
+      clamped = true;
+    }
+    if (clamped) warn("material \"" + out.name + "\": base colour above 0.99 read as 0.99");
     aiColor3D emissive(0, 0, 0);
     float strength = 1;
     m.Get(AI_MATKEY_COLOR_EMISSIVE, emissive);
@@ -81,6 +102,35 @@ class Reader {
         !std::isfinite(out.emission.r + out.emission.g + out.emission.b))
       fail("material \"" + out.name + "\": its emission is negative or not a number");
     model_.materials.push_back(out);
+  }
+
+  // The base colour texture (glTF's baseColorTexture, else the diffuse map: OBJ's map_Kd),
+  // embedded in the file or beside it, decoded under the pixel limit; none when there is none.
+  std::shared_ptr<Image> base_colour_texture(const aiMaterial& m, const std::string& material) {
+    aiString path;
+    if (m.GetTexture(aiTextureType_BASE_COLOR, 0, &path) != AI_SUCCESS &&
+        m.GetTexture(aiTextureType_DIFFUSE, 0, &path) != AI_SUCCESS)
+      return nullptr;
+    const std::string name = path.C_Str();
+    const std::string what = "material \"" + material + "\": texture \"" + name + "\"";
+    try {
+      if (const aiTexture* embedded = scene_.GetEmbeddedTexture(path.C_Str())) {
+        if (embedded->mHeight != 0) fail(what + ": uncompressed embedded textures are not read");
+        const std::string format = embedded->achFormatHint[0] ? embedded->achFormatHint : "png";
+        return std::make_shared<Image>(decode_image(
+            std::string_view(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth),
+            "texture." + format, kMaxTexturePixels));
+      }
+      const std::filesystem::path file = file_.parent_path() / name;
+      if (!std::filesystem::exists(file)) fail(what + " is missing");
+      return std::make_shared<Image>(read_image(file, kMaxTexturePixels));
+    } catch (const ModelError&) {
+      throw;
+    } catch (const std::exception& e) {
+      // The decoder's message names the file or "texture.png"; say which texture it was.
+      const std::string why = e.what();
+      fail(what + ": " + why.substr(why.find(": ") == std::string::npos ? 0 : why.find(": ") + 2));
+    }
   }
 
   void visit(const aiNode& node, const aiMatrix4x4& parent) {

@@ -62,17 +62,25 @@ void write_image(const std::filesystem::path& path, const Image& image, double e
   write_file_atomically(path, encode_image(image, *format, exposure));
 }
 
-Image read_image(const std::filesystem::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw std::runtime_error(path.string() + ": " + OIIO::geterror());
+namespace {
+
+// Decodes what `in` opened, named `name` in errors, after its header's size is checked.
+Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixels) {
+  if (!in) throw std::runtime_error(name + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
-  std::vector<float> px(std::size_t(spec.width) * std::size_t(spec.height) *
-                        std::size_t(spec.nchannels));
+  const std::size_t pixels = std::size_t(spec.width) * std::size_t(spec.height);
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw std::runtime_error(name + ": the image has no pixels");
+  if (max_pixels > 0 && pixels > max_pixels)
+    throw std::runtime_error(name + ": " + std::to_string(spec.width) + " x " +
+                             std::to_string(spec.height) + " pixels, over the limit of " +
+                             std::to_string(max_pixels));
+  std::vector<float> px(pixels * std::size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
-    throw std::runtime_error(path.string() + ": " + in->geterror());
+    throw std::runtime_error(name + ": " + in->geterror());
   bool srgb = spec.format == OIIO::TypeDesc::UINT8;
   Image img(spec.width, spec.height);
-  for (std::size_t i = 0, n = std::size_t(spec.width) * std::size_t(spec.height); i < n; ++i)
+  for (std::size_t i = 0; i < pixels; ++i)
     for (std::size_t c = 0; c < 3; ++c) {
       float v = px[i * std::size_t(spec.nchannels) +
                    std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
@@ -80,6 +88,20 @@ Image read_image(const std::filesystem::path& path) {
       img.rgb[3 * i + c] = v;
     }
   return img;
+}
+
+}  // namespace
+
+Image read_image(const std::filesystem::path& path, std::size_t max_pixels) {
+  auto in = OIIO::ImageInput::open(path.string());
+  return decode(in.get(), path.string(), max_pixels);
+}
+
+Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels) {
+  OIIO::Filesystem::IOMemReader reader(const_cast<char*>(bytes.data()), bytes.size());
+  // OpenImageIO picks the reader by the name's extension; the bytes come through the proxy.
+  auto in = OIIO::ImageInput::open(name, nullptr, &reader);
+  return decode(in.get(), name, max_pixels);
 }
 
 }  // namespace bumprad

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/image_format.h"
@@ -33,7 +34,11 @@ std::string encode_image(const Image& image, ImageFormat format, double exposure
 // Throws std::runtime_error naming the path on failure.
 void write_image(const std::filesystem::path& path, const Image& image, double exposure);
 
-// Reads any format OpenImageIO knows into linear floats (PNG is decoded from sRGB).
-Image read_image(const std::filesystem::path& path);
+// Reads any format OpenImageIO knows into linear floats (PNG is decoded from sRGB). With
+// `max_pixels`, an image whose header says it is larger is refused before it is decoded.
+Image read_image(const std::filesystem::path& path, std::size_t max_pixels = 0);
+// The same from a file's bytes in memory (a model's embedded texture); `name` (with the
+// format's extension, e.g. "texture.png") names it in errors.
+Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels = 0);
 
 }  // namespace bumprad

@@ -17,6 +17,7 @@
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/solution.h"
+#include "solver/util/image.h"
 #include "tests/test_files.h"
 
 namespace bumprad {
@@ -217,6 +218,61 @@ TEST(ModelImport, BadFilesAreRefusedNamingTheFileAndTheMesh) {
   EXPECT_TRUE(is_model_file("room.glb"));
   EXPECT_TRUE(is_model_file("room.OBJ"));
   EXPECT_FALSE(is_model_file("scene.json"));
+}
+
+}  // namespace
+}  // namespace bumprad
+
+namespace bumprad {
+namespace {
+
+// A copy of the glTF box whose texture file is `png` (empty: none beside it).
+std::filesystem::path box_with_texture(const std::filesystem::path& dir, const std::string& png) {
+  const auto source = kTestModels / "glTF2/BoxTextured-glTF";
+  std::filesystem::copy_file(source / "BoxTextured.gltf", dir / "BoxTextured.gltf");
+  std::filesystem::copy_file(source / "BoxTextured0.bin", dir / "BoxTextured0.bin");
+  if (!png.empty()) test::write_file(dir / "CesiumLogoFlat.png", png);
+  return dir / "BoxTextured.gltf";
+}
+
+// glTF's base colour texture, embedded (.glb) or beside the file (.gltf), sRGB decoded and
+// times the base colour factor: the material's texture, its mean the solve's reflectance.
+TEST(ModelImport, BaseColourTexturesEmbeddedOrBesideTheFile) {
+  const ImportedModel glb =
+      import_model(kTestModels / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
+  const ImportedModel gltf = import_model(kTestModels / "glTF2/BoxTextured-glTF/BoxTextured.gltf");
+  const Material& a = glb.materials[std::size_t(glb.objects[0].material)];
+  const Material& b = gltf.materials[std::size_t(gltf.objects[0].material)];
+  ASSERT_TRUE(a.texture && a.texture->image);
+  ASSERT_TRUE(b.texture && b.texture->image);
+  EXPECT_EQ(a.texture->image->width, b.texture->image->width);
+  EXPECT_EQ(a.texture->image->rgb, b.texture->image->rgb);
+  const Image decoded = read_image(kTestModels / "glTF2/BoxTextured-glTF/CesiumLogoFlat.png");
+  ASSERT_EQ(decoded.rgb.size(), a.texture->image->rgb.size());
+  double mean = 0;
+  for (float v : decoded.rgb) mean += std::min(0.99, double(v)) / double(decoded.rgb.size());
+  EXPECT_NEAR((a.reflectance.r + a.reflectance.g + a.reflectance.b) / 3, mean, 1e-6);
+  EXPECT_NEAR(glm::length(a.reflectance - b.reflectance), 0, 1e-12);
+}
+
+TEST(ModelImport, MissingAndOversizedTexturesAreRefusedByName) {
+  const auto missing = test::fresh_temp_dir("import-texture-missing");
+  EXPECT_NE(
+      error_of(box_with_texture(missing, "")).find("texture \"CesiumLogoFlat.png\" is missing"),
+      std::string::npos)
+      << error_of(box_with_texture(missing, ""));
+  // A 68-byte PNG whose header says 20000 x 20000: refused before anything is decoded.
+  const auto bomb = test::fresh_temp_dir("import-texture-bomb");
+  const std::string header(
+      "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x4e\x20\x00\x00\x4e"
+      "\x20\x08\x02\x00\x00\x00\x6c\x12\xd1\x6e\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80"
+      "\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82",
+      68);
+  const std::string e = error_of(box_with_texture(bomb, header));
+  EXPECT_NE(e.find("texture \"CesiumLogoFlat.png\": 20000 x 20000 pixels, over the limit of "
+                   "67108864"),
+            std::string::npos)
+      << e;
 }
 
 }  // namespace
