@@ -10,6 +10,8 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
@@ -248,6 +250,34 @@ ImportedModel import_model(const std::filesystem::path& file) {
     throw ModelError(file.string() + ": " +
                      (std::filesystem::exists(file) ? importer.GetErrorString() : "no such file"));
   return Reader(file, *scene).read();
+}
+
+void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
+  const glm::dmat3 linear(to_world);
+  const glm::dmat3 normals = glm::transpose(glm::inverse(linear));
+  const bool mirrored = glm::determinant(linear) < 0;
+  auto point = [&](const Vec3& p) { return Vec3(to_world * glm::dvec4(p, 1)); };
+  bool first = true;
+  for (Object& o : model.objects) {
+    auto& m = std::get<TriangleMeshShape>(o.shape);
+    for (Vec3& p : m.positions) {
+      p = point(p);
+      if (!finite_within_limit(p))
+        throw ModelError("object \"" + o.name + "\": the transform takes it beyond 1e12");
+      model.bounds_min = first ? p : glm::min(model.bounds_min, p);
+      model.bounds_max = first ? p : glm::max(model.bounds_max, p);
+      first = false;
+    }
+    for (Vec3& n : m.normals)
+      if (glm::length(normals * n) > 0) n = glm::normalize(normals * n);
+    if (mirrored)
+      for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  }
+  if (model.camera) {
+    model.camera->position = point(model.camera->position);
+    model.camera->look_at = point(model.camera->look_at);
+    model.camera->up = glm::normalize(linear * model.camera->up);
+  }
 }
 
 namespace {

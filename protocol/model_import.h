@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "solver/scene/scene.h"
 
 namespace bumprad {
@@ -34,6 +36,10 @@ bool is_model_file(const std::filesystem::path& file);
 
 // Throws ModelError.
 ImportedModel import_model(const std::filesystem::path& file);
+
+// Moves the model by `to_world` (positions; normals by its inverse transpose; a mirroring
+// one turns the triangles' winding back; bounds and camera follow).
+void transform_model(ImportedModel& model, const glm::dmat4& to_world);
 
 // The model as a whole scene: its materials and meshes, its camera or else one framed on it
 // (an object from in front, +z; a room, its faces turned in, from inside by its most open

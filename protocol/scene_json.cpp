@@ -9,9 +9,11 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include "protocol/json_node.h"
+#include "protocol/model_import.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
 #include "solver/util/image.h"
@@ -317,7 +319,7 @@ Object parse_object(const Node& n, std::size_t index,
     o.shape = parse_triangle_mesh(n);
   } else {
     n["type"].fail("unknown object type \"" + type +
-                   "\" (expected quad, box, sphere, cylinder or mesh)");
+                   "\" (expected quad, box, sphere, cylinder, mesh or model)");
   }
   return o;
 }
@@ -410,6 +412,93 @@ void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& po
   }
 }
 
+// A model file placed in the scene (docs/import.md): its meshes moved by "transform"
+// (scale, then rotation_deg about x, y, z as boxes turn, then translate), its materials added
+// to the scene's unless "materials" maps a model material's name to a scene material, the
+// object's "bump" and "mesh" applied to every mesh. The file resolves as image files do.
+void add_model(const Node& n, std::size_t index, const std::map<std::string, int>& material_ids,
+               const std::map<std::string, int>& bump_ids, const ImageFiles& files, Scene& scene) {
+  n.allow_only({"type", "name", "file", "transform", "materials", "bump", "mesh", "flip_normals"},
+               "model");
+  const Node file = n["file"];
+  ImportedModel model;
+  try {
+    model = import_model(files.resolve(file.string()));
+  } catch (const std::invalid_argument& e) {
+    file.fail(e.what());
+  } catch (const ModelError& e) {
+    // The message starts with the resolved path, which may be the server's: name the file as
+    // the request did.
+    const std::string why = e.what();
+    const std::size_t colon = why.find(": ");
+    file.fail("\"" + file.string() +
+              "\": " + (colon == std::string::npos ? why : why.substr(colon + 2)));
+  }
+  if (auto t = n.get("transform")) {
+    t->allow_only({"translate", "rotation_deg", "scale"}, "transform");
+    glm::dmat4 m(1);
+    if (auto v = t->get("translate")) m = glm::translate(m, v->vec3());
+    if (auto v = t->get("rotation_deg")) {
+      const Vec3 r = v->vec3();
+      m = glm::rotate(m, glm::radians(r.z), Vec3(0, 0, 1));
+      m = glm::rotate(m, glm::radians(r.y), Vec3(0, 1, 0));
+      m = glm::rotate(m, glm::radians(r.x), Vec3(1, 0, 0));
+    }
+    if (auto v = t->get("scale")) {
+      Vec3 k;
+      if (v->value().is_number()) {
+        const double uniform = v->number();
+        k = Vec3(uniform);
+      } else {
+        k = v->vec3();
+      }
+      for (int c = 0; c < 3; ++c)
+        if (!(std::abs(k[c]) > 0)) v->fail("must not be zero");
+      m = glm::scale(m, k);
+    }
+    try {
+      transform_model(model, m);
+    } catch (const ModelError& e) {
+      t->fail(e.what());
+    }
+  }
+  // The model's materials, each replaced by a scene material where "materials" says so.
+  std::vector<int> ids;
+  for (const Material& material : model.materials) {
+    ids.push_back(int(scene.materials.size()));
+    scene.materials.push_back(material);
+  }
+  if (auto map = n.get("materials"))
+    for (auto it = map->object().begin(); it != map->value().end(); ++it) {
+      const Node target(*it, map->pointer() + "/" + escape_token(it.key()));
+      auto found = std::find_if(model.materials.begin(), model.materials.end(),
+                                [&](const Material& m) { return m.name == it.key(); });
+      if (found == model.materials.end()) {
+        std::string names;
+        for (const Material& m : model.materials) names += (names.empty() ? "" : ", ") + m.name;
+        target.fail("the model has no material of this name (it has: " + names + ")");
+      }
+      const auto scene_material = material_ids.find(target.string());
+      if (scene_material == material_ids.end())
+        target.fail("unknown material \"" + target.string() + "\"");
+      ids[std::size_t(found - model.materials.begin())] = scene_material->second;
+    }
+  const std::string prefix =
+      (n.get("name") ? n["name"].string() : "model" + std::to_string(index)) + "/";
+  for (Object& o : model.objects) {
+    o.name = prefix + o.name;
+    o.material = ids[std::size_t(o.material)];
+    if (auto v = n.get("flip_normals")) o.flip_normals = v->boolean();
+    if (auto v = n.get("mesh")) o.density = parse_density(*v);
+    if (auto v = n.get("bump")) {
+      auto b = bump_ids.find(v->string());
+      if (b == bump_ids.end()) v->fail("unknown bump function \"" + v->string() + "\"");
+      o.bump = b->second;
+    }
+    scene.objects.push_back(std::move(o));
+  }
+}
+
 Scene parse_scene(const json& document, const ImageFiles& files) {
   Node root(document, "");
   root.allow_only({"version", "description", "camera", "materials", "bumps", "objects", "solver"});
@@ -437,21 +526,27 @@ Scene parse_scene(const json& document, const ImageFiles& files) {
 
   Node objects = root["objects"];
   std::size_t n = objects.array(1, std::size_t(Limits::kMaxElements));
-  for (std::size_t i = 0; i < n; ++i)
-    scene.objects.push_back(parse_object(objects[i], i, material_ids, bump_ids));
+  std::vector<std::size_t> from;  // per scene object, its entry in "objects"
+  for (std::size_t i = 0; i < n; ++i) {
+    if (objects[i].get("type") && objects[i]["type"].value() == "model")
+      add_model(objects[i], i, material_ids, bump_ids, files, scene);
+    else
+      scene.objects.push_back(parse_object(objects[i], i, material_ids, bump_ids));
+    from.resize(scene.objects.size(), i);
+  }
 
   if (auto v = root.get("solver")) apply_solver_settings(v->value(), scene.solver, v->pointer());
 
   // Refuse oversized meshes before any memory is spent on them.
   double size = default_element_size(scene);
   std::size_t total = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     total += estimate_element_count(scene.objects[i], size);
     if (total > std::size_t(Limits::kMaxElements))
-      objects[i].fail("the scene would mesh into more than " +
-                      std::to_string(Limits::kMaxElements) +
-                      " elements; raise element_size (per object under \"mesh\", or in "
-                      "\"solver\")");
+      objects[from[i]].fail("the scene would mesh into more than " +
+                            std::to_string(Limits::kMaxElements) +
+                            " elements; raise element_size (per object under \"mesh\", or in "
+                            "\"solver\")");
   }
   return scene;
 }

@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
 
+#include "protocol/scene_json.h"
 #include "protocol/scene_source.h"
 #include "solver/render/error_estimate.h"
 #include "solver/scene/mesh.h"
@@ -273,6 +275,80 @@ TEST(ModelImport, MissingAndOversizedTexturesAreRefusedByName) {
                    "67108864"),
             std::string::npos)
       << e;
+}
+
+}  // namespace
+}  // namespace bumprad
+
+namespace bumprad {
+namespace {
+
+nlohmann::json scene_placing(const std::string& file) {
+  return nlohmann::json::parse(R"({
+    "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "width": 32, "height": 32},
+    "materials": {"white": {"reflectance": 0.5}},
+    "bumps": {"wrinkles": {"type": "wrinkles", "amplitude": 0.01}},
+    "objects": [
+      {"type": "quad", "material": "white",
+       "vertices": [[-9, -9, -1], [9, -9, -1], [9, 9, -1], [-9, 9, -1]]},
+      {"type": "model", "name": "lamp", "file": ")" +
+                               file + R"(",
+       "transform": {"translate": [0, 0, 2], "rotation_deg": [0, 0, 90], "scale": 2},
+       "bump": "wrinkles"}
+    ]})");
+}
+
+// A scene JSON places a model: scaled, turned, moved, its materials added or mapped onto the
+// scene's, the object's bump on each of its meshes; every error names the field.
+TEST(ModelImport, SceneJsonPlacesModels) {
+  const auto dir = test::fresh_temp_dir("import-scene");
+  const std::string file = mirrored_quad_gltf(dir).string();
+  nlohmann::json doc = scene_placing(file);
+  Scene scene = parse_scene(doc);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  const Object& lamp = scene.objects[1];
+  EXPECT_EQ(lamp.name, "lamp/mirror/quad");
+  EXPECT_EQ(lamp.bump, 0);
+  // The quad spans x in [4, 5], y in [0, 1] in the file; x2, turned 90 degrees about z, up 2.
+  const auto& shape = std::get<TriangleMeshShape>(lamp.shape);
+  for (const Vec3& p : shape.positions) {
+    EXPECT_GE(p.x, -2 - 1e-9);
+    EXPECT_LE(p.x, 1e-9);
+    EXPECT_GE(p.y, 8 - 1e-9);
+    EXPECT_LE(p.y, 10 + 1e-9);
+    EXPECT_NEAR(p.z, 2, 1e-9);
+  }
+  EXPECT_EQ(scene.materials[std::size_t(lamp.material)].name, "glow");
+  doc["objects"][1]["materials"] = {{"glow", "white"}};
+  EXPECT_EQ(parse_scene(doc).objects[1].material, 0);
+
+  const auto rejected = [&](const nlohmann::json& d) {
+    try {
+      parse_scene(d);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  doc["objects"][1]["materials"] = {{"neon", "white"}};
+  EXPECT_EQ(rejected(doc),
+            "/objects/1/materials/neon: the model has no material of this name "
+            "(it has: glow, material 1)");
+  doc["objects"][1]["materials"] = {{"glow", "gold"}};
+  EXPECT_EQ(rejected(doc), "/objects/1/materials/glow: unknown material \"gold\"");
+  doc = scene_placing(file);
+  doc["objects"][1]["transform"]["scale"] = 0;
+  EXPECT_EQ(rejected(doc), "/objects/1/transform/scale: must not be zero");
+  doc = scene_placing((dir / "none.glb").string());
+  EXPECT_EQ(rejected(doc),
+            "/objects/1/file: \"" + (dir / "none.glb").string() + "\": no such file");
+  // Model files resolve as image files do: a server without --assets names none.
+  try {
+    parse_scene(scene_placing(file), ImageFiles::refused());
+    ADD_FAILURE() << "a refused file was read";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/objects/1/file") << e.what();
+  }
 }
 
 }  // namespace
