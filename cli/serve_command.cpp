@@ -52,7 +52,12 @@ constexpr const char* kWorkerUsage =
 // The flags serve and worker share; `workers` is left empty when not given.
 ArgParser node_flags(NodeOptions& o, std::optional<int>& workers) {
   ArgParser p;
-  p.text({"--store"}, o.store_url)
+  p.custom({"--store"},
+           [&o](std::string_view flag, std::string_view v) {
+             if (v.empty())
+               throw UsageError(std::string(flag) + ": empty; name a database (postgresql://...)");
+             o.store_url = v;
+           })
       .custom({"--data-dir"}, [&o](std::string_view, std::string_view v) { o.data_dir = v; })
       .integer({"--workers"}, workers, 0, 64)
       .integer({"--max-queue"}, o.store.max_queue, 1, 1'000'000'000)

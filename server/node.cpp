@@ -11,7 +11,8 @@ std::unique_ptr<Store> open_store(const NodeOptions& options) {
   if (options.store_url.starts_with("postgresql://") ||
       options.store_url.starts_with("postgres://"))
     return std::make_unique<PostgresStore>(options.store_url, options.store, options.postgres);
-  throw std::runtime_error("--store: \"" + options.store_url + "\" is not a postgresql:// URL");
+  throw std::runtime_error("--store: \"" + redacted_url(options.store_url) +
+                           "\" is not a postgresql:// URL");
 }
 
 Node::Node(const NodeOptions& options)

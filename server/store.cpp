@@ -29,6 +29,16 @@ Store::Submitted Store::resubmitted(JobRecord earlier, std::string_view earlier_
   return {std::move(earlier), false};
 }
 
+std::string redacted_url(std::string_view url) {
+  const std::size_t scheme = url.find("://");
+  const std::size_t start = scheme == std::string_view::npos ? 0 : scheme + 3;
+  const std::size_t at = url.find('@', start);
+  const std::size_t colon = url.find(':', start);
+  if (at == std::string_view::npos || colon == std::string_view::npos || colon > at)
+    return std::string(url);
+  return std::string(url.substr(0, colon + 1)) + "***" + std::string(url.substr(at));
+}
+
 // Ids must not be guessable (they are the only key to a job), so they come from the
 // system's entropy, not from a seeded stream.
 std::string new_job_id() {

@@ -139,6 +139,10 @@ class Store {
   std::vector<std::function<void(const JobEvent&)>> listeners_;
 };
 
+// A store URL fit for messages and logs: the password of its user (scheme://user:PASSWORD@)
+// written as ***.
+std::string redacted_url(std::string_view url);
+
 // A fresh random job id (16 hex digits); is_valid_job_id() refuses anything else, so no id
 // from a URL can name a path or reach a query unchecked.
 std::string new_job_id();

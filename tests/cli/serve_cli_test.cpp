@@ -27,6 +27,7 @@ TEST(ServeCli, ValuesOutOfRangeAreRefusedWithTheFlagsName) {
            Case{"serve --workers 0", "--workers: at least 1 without --store"},
            Case{"serve --max-queue", "--max-queue needs a value"},
            Case{"serve --colour blue", "unknown option --colour"},
+           Case{"serve --store ''", "--store: empty; name a database"},
            Case{"worker --workers 2", "--store postgresql://... is required"},
            Case{"worker --store postgresql://db/x --port 80", "--port is for bumprad serve"},
            Case{"worker --store postgresql://db/x --workers 0", "--workers: at least 1"},
@@ -36,6 +37,16 @@ TEST(ServeCli, ValuesOutOfRangeAreRefusedWithTheFlagsName) {
     EXPECT_NE(r.output.find(c.says), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find("usage: bumprad"), std::string::npos) << c.args;
   }
+}
+
+// A refused store URL is named without its password.
+TEST(ServeCli, AStoreUrlIsNeverEchoedWithItsPassword) {
+  const test::CommandResult r = bumprad("serve --store mysql://reader:s3cret@db.example/jobs");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("\"mysql://reader:***@db.example/jobs\" is not a postgresql:// URL"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("s3cret"), std::string::npos) << r.output;
 }
 
 }  // namespace
