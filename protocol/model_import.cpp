@@ -182,9 +182,12 @@ class Reader {
       shape.triangles.push_back(t);
     }
     if (shape.triangles.empty()) return;
-    if (shape.uvs.empty())
+    if (shape.uvs.empty()) {
+      project_uvs(shape);
       warn("mesh \"" + name +
-           "\" has no texture coordinates: bump functions use each triangle's own (u, v)");
+           "\" has no texture coordinates: bump functions use a projection along its normals' "
+           "main axes (docs/import.md)");
+    }
     for (const Vec3& p : shape.positions) grow(p);
     Object o;
     o.name = name;
@@ -192,6 +195,26 @@ class Reader {
         int(std::min<unsigned>(mesh.mMaterialIndex, unsigned(model_.materials.size() - 1)));
     o.shape = std::move(shape);
     model_.objects.push_back(std::move(o));
+  }
+
+  // (u, v) for a mesh without them: each vertex projected along the main axis of its normal
+  // onto the other two (x -> (z, y), y -> (x, z), z -> (x, y)), in units of the mesh's
+  // largest extent. Continuous across every flat or gently curved run of triangles; a
+  // triangle whose corners' normals lean to different axes is stretched between them.
+  static void project_uvs(TriangleMeshShape& m) {
+    Vec3 lo = m.positions.front(), hi = lo;
+    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300});
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      const Vec3 n = m.normals.empty() ? Vec3(0, 0, 1) : glm::abs(m.normals[i]);
+      const Vec3 p = (m.positions[i] - lo) / extent;
+      if (n.x >= n.y && n.x >= n.z)
+        m.uvs.push_back({p.z, p.y});
+      else if (n.y >= n.z)
+        m.uvs.push_back({p.x, p.z});
+      else
+        m.uvs.push_back({p.x, p.y});
+    }
   }
 
   void grow(const Vec3& p) {

@@ -186,9 +186,25 @@ TEST(ModelImport, RealFilesKeepTheirTextureCoordinatesMaterialsAndCameras) {
   EXPECT_EQ(build_mesh(scene_from_model(box)).surface_count, 1u);
 
   const ImportedModel obj = import_model(kTestModels / "OBJ/box.obj");
-  EXPECT_FALSE(obj.objects.empty());
+  ASSERT_FALSE(obj.objects.empty());
   ASSERT_FALSE(obj.warnings.empty());
   EXPECT_NE(obj.warnings[0].find("has no texture coordinates"), std::string::npos);
+  // Without them, (u, v) project each vertex along its normal's main axis, in units of the
+  // mesh's largest extent: on the faces facing +-y, (x, z).
+  const auto& projected = std::get<TriangleMeshShape>(obj.objects[0].shape);
+  ASSERT_EQ(projected.uvs.size(), projected.positions.size());
+  Vec3 lo = projected.positions[0], hi = lo;
+  for (const Vec3& p : projected.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  int facing_y = 0;
+  for (std::size_t i = 0; i < projected.positions.size(); ++i) {
+    const Vec3 n = glm::abs(projected.normals[i]);
+    if (n.y <= n.x || n.y <= n.z) continue;
+    ++facing_y;
+    EXPECT_NEAR(projected.uvs[i].x, (projected.positions[i].x - lo.x) / extent, 1e-12);
+    EXPECT_NEAR(projected.uvs[i].y, (projected.positions[i].z - lo.z) / extent, 1e-12);
+  }
+  EXPECT_GE(facing_y, 8);  // the top and bottom faces' corners
 
   const ImportedModel cameras = import_model(kTestModels / "glTF2/cameras/Cameras.gltf");
   ASSERT_TRUE(cameras.camera);
