@@ -13,6 +13,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
 #include "solver/util/image.h"
@@ -173,9 +174,8 @@ class Reader {
       if (face.mNumIndices != 3) continue;
       std::array<std::uint32_t, 3> t{face.mIndices[0], face.mIndices[1], face.mIndices[2]};
       if (mirrored) std::swap(t[1], t[2]);
-      const Vec3 a = shape.positions[t[0]], b = shape.positions[t[1]], c = shape.positions[t[2]];
-      const double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-      if (!(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale)) {
+      if (degenerate_triangle(shape.positions[t[0]], shape.positions[t[1]],
+                              shape.positions[t[2]])) {
         ++dropped_;
         continue;
       }

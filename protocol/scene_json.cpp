@@ -14,6 +14,7 @@
 
 #include "protocol/json_node.h"
 #include "protocol/model_import.h"
+#include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
 #include "solver/util/image.h"
@@ -244,9 +245,7 @@ TriangleMeshShape parse_triangle_mesh(const Node& n) {
     t.array(3, 3);
     std::array<std::uint32_t, 3> tri;
     for (std::size_t k = 0; k < 3; ++k) tri[k] = std::uint32_t(t[k].integer(0, (long long)np - 1));
-    Vec3 a = m.positions[tri[0]], b = m.positions[tri[1]], c = m.positions[tri[2]];
-    double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-    if (!(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale))
+    if (degenerate_triangle(m.positions[tri[0]], m.positions[tri[1]], m.positions[tri[2]]))
       t.fail("degenerate triangle: zero area");
     m.triangles.push_back(tri);
   }
@@ -438,12 +437,7 @@ void add_model(const Node& n, std::size_t index, const std::map<std::string, int
     t->allow_only({"translate", "rotation_deg", "scale"}, "transform");
     glm::dmat4 m(1);
     if (auto v = t->get("translate")) m = glm::translate(m, v->vec3());
-    if (auto v = t->get("rotation_deg")) {
-      const Vec3 r = v->vec3();
-      m = glm::rotate(m, glm::radians(r.z), Vec3(0, 0, 1));
-      m = glm::rotate(m, glm::radians(r.y), Vec3(0, 1, 0));
-      m = glm::rotate(m, glm::radians(r.x), Vec3(1, 0, 0));
-    }
+    if (auto v = t->get("rotation_deg")) m = rotated_about_axes(m, v->vec3());
     if (auto v = t->get("scale")) {
       Vec3 k;
       if (v->value().is_number()) {

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace bumprad {
 
@@ -75,6 +76,17 @@ double ray_epsilon(const Mesh& mesh) {
   for (int k = 0; k < 3; ++k)
     extent = std::max({extent, std::abs(mesh.bounds_min[k]), std::abs(mesh.bounds_max[k])});
   return 4e-6 * extent;
+}
+
+bool degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double scale = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+  return !(glm::length(glm::cross(b - a, c - a)) > 1e-12 * scale * scale);
+}
+
+glm::dmat4 rotated_about_axes(const glm::dmat4& m, const Vec3& degrees) {
+  glm::dmat4 r = glm::rotate(m, glm::radians(degrees.z), Vec3(0, 0, 1));
+  r = glm::rotate(r, glm::radians(degrees.y), Vec3(0, 1, 0));
+  return glm::rotate(r, glm::radians(degrees.x), Vec3(1, 0, 0));
 }
 
 double centroid_ray_offset(const Mesh& mesh) {

@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 
 #include "solver/scene/mesh.h"
@@ -40,6 +41,13 @@ struct SurfaceAt {
   Vec3 normal, dpdu, dpdv;
 };
 SurfaceAt surface_at(const Mesh& mesh, const Element& element, double u, double v);
+
+// Whether triangle (a, b, c) has no area to speak of: its cross product under 1e-12 of its
+// longest edge squared. Scene meshes refuse such triangles; imported models drop them.
+bool degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
+
+// `m` turned by `degrees` about x, then y, then z (boxes' rotation_deg, models' transforms).
+glm::dmat4 rotated_about_axes(const glm::dmat4& m, const Vec3& degrees);
 
 // How far rays leave their surfaces. Embree intersects in single precision: a ray must
 // leave by some ulps of the scene's coordinates, or it meets the surface it left (at 1e-7

@@ -1,5 +1,4 @@
 #include "solver/scene/mesh.h"
-#include "solver/scene/geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+
+#include "solver/scene/geometry.h"
 
 namespace bumprad {
 namespace {
@@ -22,10 +23,7 @@ struct Grid {
 };
 
 std::array<Vec3, 8> box_corners(const BoxShape& box) {
-  glm::dmat4 r(1.0);
-  r = glm::rotate(r, glm::radians(box.rotation_deg.z), Vec3(0, 0, 1));
-  r = glm::rotate(r, glm::radians(box.rotation_deg.y), Vec3(0, 1, 0));
-  r = glm::rotate(r, glm::radians(box.rotation_deg.x), Vec3(1, 0, 0));
+  const glm::dmat4 r = rotated_about_axes(glm::dmat4(1.0), box.rotation_deg);
   std::array<Vec3, 8> c;
   for (int i = 0; i < 8; ++i) {
     Vec3 local((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5);
