@@ -44,7 +44,8 @@ Wrap parse_wrap(const Node& n) {
 }
 
 // Image files are read when the scene is parsed, from where `files` allows.
-std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& files) {
+std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& files,
+                                             PixelMeaning meaning = PixelMeaning::Color) {
   std::string path = n.string();
   std::filesystem::path resolved;
   try {
@@ -53,7 +54,7 @@ std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& fi
     n.fail(e.what());
   }
   try {
-    auto image = std::make_shared<const Image>(read_image(resolved));
+    auto image = std::make_shared<const Image>(read_image(resolved, 0, meaning));
     if (image->width < 1 || image->height < 1) n.fail("image \"" + path + "\" is empty");
     return image;
   } catch (const SceneError&) {
@@ -153,20 +154,25 @@ BumpFunction parse_bump(const Node& n, const std::string& name, const ImageFiles
                                        {"tiles", BumpType::Tiles},
                                        {"dimples", BumpType::Dimples},
                                        {"cylinder", BumpType::Cylinder},
-                                       {"image", BumpType::Image}},
+                                       {"image", BumpType::Image},
+                                       {"normal_map", BumpType::NormalMap}},
                                       "bump type");
-  std::vector<std::string_view> keys = {"type", "amplitude", "scale", "offset"};
+  std::vector<std::string_view> keys = {"type", "scale", "offset"};
+  keys.push_back(b.type == BumpType::NormalMap ? "strength" : "amplitude");
   if (b.type == BumpType::Noise) keys.insert(keys.end(), {"octaves", "seed"});
   if (b.type == BumpType::Wrinkles || b.type == BumpType::Cylinder) keys.push_back("direction_deg");
   if (b.type == BumpType::Bricks || b.type == BumpType::Tiles) keys.push_back("mortar");
   if (b.type == BumpType::Dimples) keys.push_back("radius");
-  if (b.type == BumpType::Image) keys.insert(keys.end(), {"file", "wrap"});
+  if (b.type == BumpType::Image || b.type == BumpType::NormalMap)
+    keys.insert(keys.end(), {"file", "wrap"});
   n.allow_only(keys, n["type"].string() + " bump");
   if (auto v = n.get("amplitude")) b.amplitude = v->in_range(0, kHuge, false);
+  if (auto v = n.get("strength")) b.strength = v->in_range(0, kHuge, false);
   if (auto v = n.get("scale")) b.scale = scale_pair(*v);
   if (auto v = n.get("offset")) b.offset = offset_pair(*v);
-  if (b.type == BumpType::Image) {
-    b.image = load_image_file(n["file"], files);
+  if (b.type == BumpType::Image || b.type == BumpType::NormalMap) {
+    // Heights and normals are data, not colours: 8-bit files are read without the sRGB curve.
+    b.image = load_image_file(n["file"], files, PixelMeaning::Data);
     if (auto v = n.get("wrap")) b.wrap = parse_wrap(*v);
   }
   if (auto v = n.get("octaves")) b.octaves = int(v->integer(1, 12));

@@ -66,10 +66,8 @@ class PathTracer {
 
       const SurfaceAt s = surface_at(mesh_, e, hit->u, hit->v);
       Vec3 normal = s.normal;
-      if (const int b = scene_.objects[e.object].bump; b >= 0) {
-        BumpSample f = evaluate_bump(scene_.bumps[std::size_t(b)], s.uv);
-        normal = perturb_normal(s.normal, s.dpdu, s.dpdv, f.du, f.dv);
-      }
+      if (const int b = scene_.objects[e.object].bump; b >= 0)
+        normal = bumped_normal(scene_.bumps[std::size_t(b)], s.uv, s.normal, s.dpdu, s.dpdv);
       const Vec3 point = ray.origin + hit->t * ray.direction;
       const Vec3 from = point + e.normal * epsilon_;
       const Rgb rho = m.texture ? texture_reflectance(*m.texture, s.uv) : m.reflectance;

@@ -130,12 +130,11 @@ class Tracer {
     const auto [w, uv, n, dpdu, dpdv] = surface_at(mesh_, e, hit.u, hit.v);
     SurfacePoint p{ray.origin + hit.t * ray.direction, n, interpolate(e, vertex_, hit.u, hit.v)};
 
-    // Bumps (paper section 2.4): N' from the bump function in the frame of the smooth
-    // surface, then each corner's B + (B'(N') - B'(N)) from the map, interpolated.
+    // Bumps (paper section 2.4): N' from the bump function or normal map in the frame of the
+    // smooth surface, then each corner's B + (B'(N') - B'(N)) from the map, interpolated.
     int bump = detail_.map ? detail_.object_bump[e.object] : -1;
     if (bump >= 0) {
-      BumpSample f = evaluate_bump(detail_.bumps[std::size_t(bump)], uv);
-      p.normal = perturb_normal(n, dpdu, dpdv, f.du, f.dv);
+      p.normal = bumped_normal(detail_.bumps[std::size_t(bump)], uv, n, dpdu, dpdv);
       const PerturbedMap& map = *detail_.map;
       const MapTerms at = map.basis().evaluate(tangent_frame(n, dpdu).to_local(p.normal));
       Rgb b(0);

@@ -91,6 +91,8 @@ double pattern(const BumpFunction& b, glm::dvec2 p) {
       double t = 2 * fract(across(b, p)) - 1;
       return std::sqrt(std::max(0.0, 1 - t * t));
     }
+    case BumpType::NormalMap:
+      break;  // normals, no heights: bumped_normal reads them
   }
   return 0;
 }
@@ -134,6 +136,25 @@ Vec3 perturb_normal(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, double f_
   double s = glm::dot(cross, n) < 0 ? -1 : 1;
   Vec3 d = s * (f_u * glm::cross(n, dpdv) - f_v * glm::cross(n, dpdu)) / len;
   return glm::normalize(n + d);
+}
+
+Vec3 bumped_normal(const BumpFunction& b, glm::dvec2 uv, const Vec3& n, const Vec3& dpdu,
+                   const Vec3& dpdv) {
+  if (b.type != BumpType::NormalMap) {
+    const BumpSample f = evaluate_bump(b, uv);
+    return perturb_normal(n, dpdu, dpdv, f.du, f.dv);
+  }
+  // glTF's scaled normal: (2 c - 1) with x and y times the strength, in the tangent frame.
+  const Rgb c = sample_image(*b.image, uv * b.scale + b.offset, b.wrap);
+  const Vec3 local((2 * c.r - 1) * b.strength, (2 * c.g - 1) * b.strength,
+                   std::max(0.0, 2 * c.b - 1));
+  const Vec3 t = dpdu - n * glm::dot(n, dpdu);
+  const Vec3 s = dpdv - n * glm::dot(n, dpdv);
+  if (!(glm::length(t) > 0) || !(glm::length(s) > 0)) return n;
+  const Vec3 tangent = glm::normalize(t);
+  const Vec3 down = glm::normalize(s - tangent * glm::dot(tangent, s));
+  const Vec3 m = local.x * tangent - local.y * down + local.z * n;
+  return glm::length(m) > 0 ? glm::normalize(m) : n;
 }
 
 }  // namespace bumprad

@@ -115,10 +115,11 @@ struct TriangleMeshShape {
 using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
 
 // A named bump (height) function; solver/scene/bump.h evaluates it.
-enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder, Image };
+enum class BumpType { Noise, Wrinkles, Bricks, Tiles, Dimples, Cylinder, Image, NormalMap };
 
 // Heights are in scene units; the pattern is evaluated at uv * scale + offset, where uv is
-// the surface's own parameterisation in [0,1]^2.
+// the surface's own parameterisation in [0,1]^2. A normal map gives the perturbed normal
+// itself, in the surface's tangent frame, instead of heights.
 struct BumpFunction {
   std::string name;
   BumpType type = BumpType::Wrinkles;
@@ -130,8 +131,12 @@ struct BumpFunction {
   double direction_deg = 0;  // wrinkles, cylinder: the (u,v) direction the height varies along
   double mortar = 0.08;      // bricks, tiles: groove width, fraction of a cell
   double radius = 0.35;      // dimples: fraction of a cell
-  std::shared_ptr<const Image> image;  // image: grey-scale heights in [0,1], bilinear
-  Wrap wrap = Wrap::Repeat;            // image
+  // image: grey-scale heights in [0,1]; normal map: tangent-space normals, (x, y, z) stored
+  // as (x + 1) / 2 in red, green, blue, +x along u, +y toward the image's top row (OpenGL's
+  // and glTF's convention), +z along the surface normal. Bilinear either way.
+  std::shared_ptr<const Image> image;
+  Wrap wrap = Wrap::Repeat;  // image, normal map
+  double strength = 1;       // normal map: its x and y scaled by this (glTF's normalTexture.scale)
 };
 
 struct Object {

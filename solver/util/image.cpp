@@ -8,6 +8,7 @@
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+#include <OpenImageIO/strutil.h>
 
 #include "common/atomic_file.h"
 
@@ -65,7 +66,8 @@ void write_image(const std::filesystem::path& path, const Image& image, double e
 namespace {
 
 // Decodes what `in` opened, named `name` in errors, after its header's size is checked.
-Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixels) {
+Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixels,
+             PixelMeaning meaning) {
   if (!in) throw std::runtime_error(name + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   const std::size_t pixels = std::size_t(spec.width) * std::size_t(spec.height);
@@ -78,7 +80,11 @@ Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixe
   std::vector<float> px(pixels * std::size_t(spec.nchannels));
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
     throw std::runtime_error(name + ": " + in->geterror());
-  bool srgb = spec.format == OIIO::TypeDesc::UINT8;
+  // Integer pixels (8- and 16-bit PNG, JPEG) hold colours on the sRGB curve unless the file
+  // says it is linear (a PNG's gAMA of 1.0); floats are linear.
+  const std::string space = spec.get_string_attribute("oiio:ColorSpace");
+  const bool srgb = meaning == PixelMeaning::Color && !spec.format.is_floating_point() &&
+                    !OIIO::Strutil::istarts_with(space, "lin");
   Image img(spec.width, spec.height);
   for (std::size_t i = 0; i < pixels; ++i)
     for (std::size_t c = 0; c < 3; ++c) {
@@ -92,16 +98,17 @@ Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixe
 
 }  // namespace
 
-Image read_image(const std::filesystem::path& path, std::size_t max_pixels) {
+Image read_image(const std::filesystem::path& path, std::size_t max_pixels, PixelMeaning meaning) {
   auto in = OIIO::ImageInput::open(path.string());
-  return decode(in.get(), path.string(), max_pixels);
+  return decode(in.get(), path.string(), max_pixels, meaning);
 }
 
-Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels) {
+Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels,
+                   PixelMeaning meaning) {
   OIIO::Filesystem::IOMemReader reader(const_cast<char*>(bytes.data()), bytes.size());
   // OpenImageIO picks the reader by the name's extension; the bytes come through the proxy.
   auto in = OIIO::ImageInput::open(name, nullptr, &reader);
-  return decode(in.get(), name, max_pixels);
+  return decode(in.get(), name, max_pixels, meaning);
 }
 
 }  // namespace bumprad

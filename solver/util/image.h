@@ -34,11 +34,17 @@ std::string encode_image(const Image& image, ImageFormat format, double exposure
 // Throws std::runtime_error naming the path on failure.
 void write_image(const std::filesystem::path& path, const Image& image, double exposure);
 
-// Reads any format OpenImageIO knows into linear floats (PNG is decoded from sRGB). With
-// `max_pixels`, an image whose header says it is larger is refused before it is decoded.
-Image read_image(const std::filesystem::path& path, std::size_t max_pixels = 0);
+// What a file's 8-bit pixels hold: colours, stored on the sRGB curve, or data (heights,
+// normals), stored as they are: 8-bit v reads as v / 255. Float formats are linear either way.
+enum class PixelMeaning { Color, Data };
+
+// Reads any format OpenImageIO knows into linear floats. With `max_pixels`, an image whose
+// header says it is larger is refused before it is decoded.
+Image read_image(const std::filesystem::path& path, std::size_t max_pixels = 0,
+                 PixelMeaning meaning = PixelMeaning::Color);
 // The same from a file's bytes in memory (a model's embedded texture); `name` (with the
 // format's extension, e.g. "texture.png") names it in errors.
-Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels = 0);
+Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels = 0,
+                   PixelMeaning meaning = PixelMeaning::Color);
 
 }  // namespace bumprad

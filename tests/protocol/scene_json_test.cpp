@@ -374,10 +374,35 @@ TEST(SceneJson, ImageBumps) {
   Scene s = parse_scene(d);
   ASSERT_TRUE(s.bumps[0].image);
   EXPECT_EQ(s.bumps[0].wrap, Wrap::Clamp);
+  // Heights are data: the PNG's 8-bit values as stored, not decoded from sRGB as colours are.
+  EXPECT_NEAR(s.bumps[0].image->at(3, 3).r, srgb_encode(0.25), 0.5 / 255);
   d["bumps"]["map"]["file"] = "/no/such/height.png";
   expect_rejected(d, "/bumps/map/file", "cannot read image");
   d["bumps"]["map"].erase("file");
   expect_rejected(d, "/bumps/map/file", "is required");
+}
+
+TEST(SceneJson, NormalMaps) {
+  json d = minimal();
+  d["bumps"] = {{"n",
+                 {{"type", "normal_map"},
+                  {"file", write_test_image("n.png", 0.25)},
+                  {"strength", 0.5},
+                  {"scale", 4}}}};
+  d["objects"][0]["bump"] = "n";
+  Scene s = parse_scene(d);
+  ASSERT_EQ(s.bumps.size(), 1u);
+  EXPECT_EQ(s.bumps[0].type, BumpType::NormalMap);
+  EXPECT_EQ(s.bumps[0].strength, 0.5);
+  EXPECT_EQ(s.bumps[0].scale, glm::dvec2(4));
+  EXPECT_NEAR(s.bumps[0].image->at(0, 0).b, srgb_encode(0.25), 0.5 / 255);  // as stored
+  d["bumps"]["n"]["amplitude"] = 0.1;
+  expect_rejected(d, "/bumps/n/amplitude", "normal_map bump");
+  d["bumps"]["n"].erase("amplitude");
+  d["bumps"]["n"]["strength"] = -1;
+  expect_rejected(d, "/bumps/n/strength", "must be");
+  d["bumps"]["n"] = {{"type", "normal_map"}};
+  expect_rejected(d, "/bumps/n/file", "is required");
 }
 
 TEST(SceneJson, TextureModeAndMapSettings) {

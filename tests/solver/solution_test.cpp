@@ -3,7 +3,12 @@
 // plain render.
 #include "solver/solution.h"
 
+#include <cmath>
+#include <memory>
+#include <numbers>
+
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "tests/test_scenes.h"
 
@@ -133,6 +138,62 @@ TEST(Solution, FlatBumpsRenderAsNoBumps) {
     EXPECT_GT(s.stats.perturbed_elements, 0u);
     EXPECT_EQ(render(flat, s).rgb, render(plain, solve(plain)).rgb) << "mode " << int(mode);
   }
+}
+
+// The heights of a normal-map test: 4 x 4 bumps h = (1 + sin 8 pi u sin 8 pi v) / 2, and their
+// slopes.
+double bump_height(double u, double v) {
+  return 0.5 + 0.5 * std::sin(8 * std::numbers::pi * u) * std::sin(8 * std::numbers::pi * v);
+}
+glm::dvec2 bump_slope(double u, double v) {
+  return {0.5 * 8 * std::numbers::pi * std::cos(8 * std::numbers::pi * u) *
+              std::sin(8 * std::numbers::pi * v),
+          0.5 * 8 * std::numbers::pi * std::sin(8 * std::numbers::pi * u) *
+              std::cos(8 * std::numbers::pi * v)};
+}
+
+TEST(Solution, ANormalMapRendersLikeTheHeightsItWasComputedFrom) {
+  // The floor (4 x 4: |P_u| = |P_v| = 4) with heights 0.1 h as an image bump, then with the
+  // normal map of the same heights: by eq. (Blinn) on a plane, the tangent-space normal
+  // (-0.1 h_u / 4, +0.1 h_v / 4, 1) (+y toward decreasing v). Tilts reach 17 degrees.
+  constexpr int kSide = 256;
+  auto heights = std::make_shared<Image>(kSide, kSide);
+  auto normals = std::make_shared<Image>(kSide, kSide);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const double u = (x + 0.5) / kSide, v = (y + 0.5) / kSide;
+      heights->set(x, y, Rgb(bump_height(u, v)));
+      const glm::dvec2 slope = 0.1 * bump_slope(u, v) / 4.0;
+      const Vec3 n = glm::normalize(Vec3(-slope.x, slope.y, 1));
+      normals->set(x, y, (n + 1.0) / 2.0);
+    }
+  Scene with_heights = bumpy_scene(TextureMode::Gather);
+  with_heights.objects[1].bump = 0;  // the floor
+  with_heights.objects[2].bump = with_heights.objects[3].bump = -1;
+  BumpFunction h;
+  h.type = BumpType::Image;
+  h.image = heights;
+  h.amplitude = 0.1;
+  with_heights.bumps = {h};
+  Scene with_normals = with_heights;
+  BumpFunction n;
+  n.type = BumpType::NormalMap;
+  n.image = normals;
+  with_normals.bumps = {n};
+  Scene flat = with_heights;
+  flat.bumps[0].amplitude = 0;
+
+  const Solution solved = solve(with_heights);
+  const Image a = render(with_heights, solved), b = render(with_normals, solved);
+  double diff = 0, sum = 0, bumps = 0;
+  const Image plain = render(flat, solved);
+  for (std::size_t i = 0; i < a.rgb.size(); ++i) {
+    diff += std::pow(double(b.rgb[i]) - a.rgb[i], 2);
+    bumps += std::pow(double(plain.rgb[i]) - a.rgb[i], 2);
+    sum += std::pow(double(a.rgb[i]), 2);
+  }
+  EXPECT_LT(std::sqrt(diff / sum), 0.01);  // the bound: within 1 %
+  EXPECT_GT(std::sqrt(bumps / sum), 0.05) << "the bumps show";
 }
 
 }  // namespace

@@ -69,5 +69,58 @@ TEST(Bump, ZeroSlopeLeavesTheNormalAlone) {
   EXPECT_EQ(perturb_normal(n, Vec3(1, 0, 0.1), Vec3(0, 1, 0.3), 0, 0), n);
 }
 
+// A normal map of one colour everywhere.
+BumpFunction uniform_normal_map(const Rgb& texel) {
+  auto img = std::make_shared<Image>(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) img->set(x, y, texel);
+  BumpFunction b;
+  b.type = BumpType::NormalMap;
+  b.image = img;
+  return b;
+}
+
+TEST(Bump, NormalMapsTurnTheNormalInTheTangentFrame) {
+  // P(u,v) = (2u, 3v, 0). The map's +x is along u; its +y is toward decreasing v (the top
+  // of the image: OpenGL's and glTF's convention), whichever way the normal faces.
+  const Vec3 pu(2, 0, 0), pv(0, 3, 0);
+  const Vec3 flat =
+      bumped_normal(uniform_normal_map(Rgb(0.5, 0.5, 1)), {0.3, 0.3}, Vec3(0, 0, 1), pu, pv);
+  EXPECT_NEAR(glm::length(flat - Vec3(0, 0, 1)), 0, 1e-12);
+  const Rgb tilted((0.6 + 1) / 2, (0.0 + 1) / 2, (0.8 + 1) / 2);  // (0.6, 0, 0.8)
+  EXPECT_NEAR(
+      glm::length(bumped_normal(uniform_normal_map(tilted), {0.3, 0.3}, Vec3(0, 0, 1), pu, pv) -
+                  Vec3(0.6, 0, 0.8)),
+      0, 1e-6);
+  const Rgb up((0.0 + 1) / 2, (0.6 + 1) / 2, (0.8 + 1) / 2);
+  EXPECT_NEAR(glm::length(bumped_normal(uniform_normal_map(up), {0.3, 0.3}, Vec3(0, 0, 1), pu, pv) -
+                          Vec3(0, -0.6, 0.8)),
+              0, 1e-6);
+  EXPECT_NEAR(
+      glm::length(bumped_normal(uniform_normal_map(up), {0.3, 0.3}, Vec3(0, 0, -1), pu, pv) -
+                  Vec3(0, -0.6, -0.8)),
+      0, 1e-6);
+  // glTF's scale multiplies x and y before normalising.
+  BumpFunction stronger = uniform_normal_map(tilted);
+  stronger.strength = 2;
+  EXPECT_NEAR(glm::length(bumped_normal(stronger, {0.3, 0.3}, Vec3(0, 0, 1), pu, pv) -
+                          glm::normalize(Vec3(1.2, 0, 0.8))),
+              0, 1e-6);
+}
+
+TEST(Bump, ANormalMapOfBlinnsNormalGivesBlinnsNormal) {
+  // F = 0.5 u on P(u,v) = (2u, 3v, 0) tilts N to (-0.25, 0, 1) normalised: as a normal map,
+  // the same normal; on a sheared tangent frame (P_v leaning along u) too, as the frame is
+  // made orthonormal from P_u first.
+  const Vec3 n = perturb_normal(Vec3(0, 0, 1), Vec3(2, 0, 0), Vec3(0, 3, 0), 0.5, 0);
+  const BumpFunction map = uniform_normal_map((n + 1.0) / 2.0);
+  EXPECT_NEAR(
+      glm::length(bumped_normal(map, {0.5, 0.5}, Vec3(0, 0, 1), Vec3(2, 0, 0), Vec3(0, 3, 0)) - n),
+      0, 1e-6);
+  EXPECT_NEAR(
+      glm::length(bumped_normal(map, {0.5, 0.5}, Vec3(0, 0, 1), Vec3(2, 0, 0), Vec3(1, 3, 0)) - n),
+      0, 1e-6);
+}
+
 }  // namespace
 }  // namespace bumprad
