@@ -6,6 +6,8 @@
 #include <memory>
 #include <numbers>
 
+#include <assimp/GltfMaterial.h>
+#include <assimp/ObjMaterial.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
@@ -13,6 +15,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "common/paths.h"
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
@@ -41,7 +44,9 @@ bool finite_within_limit(const Vec3& p) {
 
 class Reader {
  public:
-  Reader(const std::filesystem::path& file, const aiScene& scene) : file_(file), scene_(scene) {}
+  Reader(const std::filesystem::path& file, const aiScene& scene,
+         const std::optional<std::filesystem::path>& confine)
+      : file_(file), scene_(scene), confine_(confine), obj_(file.extension() == ".obj") {}
 
   ImportedModel read() {
     for (unsigned i = 0; i < scene_.mNumMaterials; ++i) read_material(*scene_.mMaterials[i]);
@@ -49,6 +54,7 @@ class Reader {
       Material fallback;
       fallback.name = "default";
       model_.materials.push_back(fallback);
+      material_bump_.push_back(-1);
     }
     visit(*scene_.mRootNode, aiMatrix4x4());
     if (model_.objects.empty()) fail("it has no triangles (points and lines are not rendered)");
@@ -67,66 +73,124 @@ class Reader {
   void warn(const std::string& what) { model_.warnings.push_back(file_.string() + ": " + what); }
 
   // Base colour (glTF's baseColorFactor, else the diffuse colour: OBJ's Kd) as the diffuse
-  // reflectance; emissive colour times its strength (KHR_materials_emissive_strength) as
-  // radiance, so emission (radiosity) is pi times it, as Cycles reads the same file.
+  // reflectance, less what metallic sends to the specular lobe; emissive colour times its
+  // strength (KHR_materials_emissive_strength) as radiance, so emission (radiosity) is pi
+  // times it, as Cycles reads the same file; the normal map as the material's bump.
   void read_material(const aiMaterial& m) {
     Material out;
     out.name = m.GetName().C_Str();
     if (out.name.empty()) out.name = "material " + std::to_string(model_.materials.size());
+    const std::string what = "material \"" + out.name + "\"";
     aiColor4D base(0.8f, 0.8f, 0.8f, 1);
     if (m.Get(AI_MATKEY_BASE_COLOR, base) != AI_SUCCESS) m.Get(AI_MATKEY_COLOR_DIFFUSE, base);
-    out.reflectance = {base.r, base.g, base.b};
-    if (!(glm::all(glm::greaterThanEqual(out.reflectance, Rgb(0)))))
-      fail("material \"" + out.name + "\": its base colour is negative or not a number");
+    Rgb colour(base.r, base.g, base.b);
+    if (!(glm::all(glm::greaterThanEqual(colour, Rgb(0)))))
+      fail(what + ": its base colour is negative or not a number");
+    // Metallic/roughness (glTF): metal reflects its base colour in a Phong lobe whose
+    // exponent follows the roughness, n = 2 / r^4 - 2 (Blinn-Phong against Beckmann's
+    // alpha = r^2), a mirror below r = 0.05, at least 1; the rest is diffuse. A dielectric's
+    // 4 % specular coat is not modelled: metallic 0 is Lambert at any roughness.
+    float metallic = 0, roughness = 1;
+    m.Get(AI_MATKEY_METALLIC_FACTOR, metallic);
+    m.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
+    if (!(metallic >= 0 && metallic <= 1) || !(roughness >= 0 && roughness <= 1))
+      fail(what + ": metallic and roughness must be in [0, 1]");
     bool clamped = false;
-    if (auto image = base_colour_texture(m, out.name)) {
+    if (auto image = texture(m, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, what,
+                             PixelMeaning::Color)) {
       // glTF: base colour = factor x texture (sRGB decoded), per texel.
       for (std::size_t i = 0; i < image->rgb.size(); ++i) {
-        const float v = image->rgb[i] * float(out.reflectance[int(i % 3)]);
+        const float v = image->rgb[i] * float(colour[int(i % 3)]);
         clamped = clamped || v > float(kMaxReflectance);
         image->rgb[i] = std::min(v, float(kMaxReflectance));
       }
+      colour = image_mean(*image);
+      if (metallic > 0)
+        for (float& v : image->rgb) v *= 1 - metallic;
       ColorTexture t;
       t.kind = ColorTexture::Kind::Image;
       t.image = std::move(image);
       out.texture = std::move(t);
       out.reflectance = texture_mean(*out.texture);
-    } else if (glm::any(glm::greaterThan(out.reflectance, Rgb(kMaxReflectance)))) {
-      out.reflectance = glm::min(out.reflectance, Rgb(kMaxReflectance));
-      clamped = true;
+    } else {
+      clamped = glm::any(glm::greaterThan(colour, Rgb(kMaxReflectance)));
+      colour = glm::min(colour, Rgb(kMaxReflectance));
+      out.reflectance = colour * double(1 - metallic);
     }
-    if (clamped) warn("material \"" + out.name + "\": base colour above 0.99 read as 0.99");
+    if (clamped) warn(what + ": base colour above 0.99 read as 0.99");
+    if (metallic > 0) {
+      out.specular = metallic * (colour.r + colour.g + colour.b) / 3;
+      out.shininess =
+          roughness < 0.05 ? 0 : std::clamp(2 / std::pow(double(roughness), 4) - 2, 1.0, 1e6);
+    }
+
     aiColor3D emissive(0, 0, 0);
     float strength = 1;
     m.Get(AI_MATKEY_COLOR_EMISSIVE, emissive);
     m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength);
-    out.emission = std::numbers::pi * double(strength) * Rgb(emissive.r, emissive.g, emissive.b);
+    Rgb radiance = double(strength) * Rgb(emissive.r, emissive.g, emissive.b);
+    if (auto image = texture(m, {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}, what,
+                             PixelMeaning::Color)) {
+      // Emission is one value a material: the texture's mean, so the power is the file's.
+      radiance *= image_mean(*image);
+      warn(what +
+           ": its emissive texture is read as its mean (emission is uniform over a "
+           "surface)");
+    }
+    out.emission = std::numbers::pi * radiance;
     if (!(glm::all(glm::greaterThanEqual(out.emission, Rgb(0)))) ||
         !std::isfinite(out.emission.r + out.emission.g + out.emission.b))
-      fail("material \"" + out.name + "\": its emission is negative or not a number");
+      fail(what + ": its emission is negative or not a number");
+
+    // glTF's normalTexture (with its scale), OBJ's norm; OBJ's bump/map_Bump is read as a
+    // normal map too (with its -bm), as Blender reads it: exporters write normal maps there.
+    material_bump_.push_back(-1);
+    std::vector<aiTextureType> normals{aiTextureType_NORMALS};
+    if (obj_) normals.push_back(aiTextureType_HEIGHT);
+    for (aiTextureType type : normals)
+      if (auto image = texture(m, {type}, what, PixelMeaning::Data)) {
+        BumpFunction b;
+        b.name = out.name + "/normal";
+        b.type = BumpType::NormalMap;
+        b.image = std::move(image);
+        float scale = 1;
+        if (m.Get(AI_MATKEY_GLTF_TEXTURE_SCALE(type, 0), scale) != AI_SUCCESS)
+          m.Get(AI_MATKEY_OBJ_BUMPMULT(type, 0), scale);
+        if (!(scale >= 0 && std::isfinite(scale)))
+          fail(what + ": its normal map's scale must be a number >= 0");
+        b.strength = scale;
+        material_bump_.back() = int(model_.bumps.size());
+        model_.bumps.push_back(std::move(b));
+        break;
+      }
     model_.materials.push_back(out);
   }
 
-  // The base colour texture (glTF's baseColorTexture, else the diffuse map: OBJ's map_Kd),
-  // embedded in the file or beside it, decoded under the pixel limit; none when there is none.
-  std::shared_ptr<Image> base_colour_texture(const aiMaterial& m, const std::string& material) {
+  // The material's first texture of these types, embedded in the file or beside it, decoded
+  // under the pixel limit; none when there is none. `what` names the material in errors.
+  std::shared_ptr<Image> texture(const aiMaterial& m, std::initializer_list<aiTextureType> types,
+                                 const std::string& material, PixelMeaning meaning) {
     aiString path;
-    if (m.GetTexture(aiTextureType_BASE_COLOR, 0, &path) != AI_SUCCESS &&
-        m.GetTexture(aiTextureType_DIFFUSE, 0, &path) != AI_SUCCESS)
-      return nullptr;
+    const auto found = std::find_if(types.begin(), types.end(), [&](aiTextureType t) {
+      return m.GetTexture(t, 0, &path) == AI_SUCCESS;
+    });
+    if (found == types.end()) return nullptr;
     const std::string name = path.C_Str();
-    const std::string what = "material \"" + material + "\": texture \"" + name + "\"";
+    const std::string what = material + ": texture \"" + name + "\"";
     try {
       if (const aiTexture* embedded = scene_.GetEmbeddedTexture(path.C_Str())) {
         if (embedded->mHeight != 0) fail(what + ": uncompressed embedded textures are not read");
         const std::string format = embedded->achFormatHint[0] ? embedded->achFormatHint : "png";
         return std::make_shared<Image>(decode_image(
             std::string_view(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth),
-            "texture." + format, kMaxTexturePixels));
+            "texture." + format, kMaxTexturePixels, meaning));
       }
       const std::filesystem::path file = file_.parent_path() / name;
+      if (confine_ && !lies_inside(*confine_, file))
+        fail(what + " lies outside the asset directory");
       if (!std::filesystem::exists(file)) fail(what + " is missing");
-      return std::make_shared<Image>(read_image(file, kMaxTexturePixels));
+      if (!std::filesystem::is_regular_file(file)) fail(what + " is not a regular file");
+      return std::make_shared<Image>(read_image(file, kMaxTexturePixels, meaning));
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& e) {
@@ -193,6 +257,7 @@ class Reader {
     o.name = name;
     o.material =
         int(std::min<unsigned>(mesh.mMaterialIndex, unsigned(model_.materials.size() - 1)));
+    o.bump = material_bump_[std::size_t(o.material)];
     o.shape = std::move(shape);
     model_.objects.push_back(std::move(o));
   }
@@ -249,7 +314,10 @@ class Reader {
 
   const std::filesystem::path& file_;
   const aiScene& scene_;
+  const std::optional<std::filesystem::path>& confine_;
+  const bool obj_;
   ImportedModel model_;
+  std::vector<int> material_bump_;  // per material: its normal map in model_.bumps, or -1
   bool any_ = false;
   std::size_t dropped_ = 0;
 };
@@ -261,7 +329,8 @@ bool is_model_file(const std::filesystem::path& file) {
   return !ext.empty() && ext != ".json" && Assimp::Importer().IsExtensionSupported(ext);
 }
 
-ImportedModel import_model(const std::filesystem::path& file) {
+ImportedModel import_model(const std::filesystem::path& file,
+                           const std::optional<std::filesystem::path>& confine) {
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -272,7 +341,7 @@ ImportedModel import_model(const std::filesystem::path& file) {
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw ModelError(file.string() + ": " +
                      (std::filesystem::exists(file) ? importer.GetErrorString() : "no such file"));
-  return Reader(file, *scene).read();
+  return Reader(file, *scene, confine).read();
 }
 
 void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
@@ -363,6 +432,7 @@ Camera framed_camera(const ImportedModel& model, Camera camera) {
 Scene scene_from_model(const ImportedModel& model) {
   Scene scene;
   scene.materials = model.materials;
+  scene.bumps = model.bumps;
   scene.objects = model.objects;
   scene.camera = model.camera ? *model.camera : framed_camera(model, scene.camera);
   std::size_t elements = 0;

@@ -25,8 +25,9 @@ class ModelError : public std::runtime_error {
 
 struct ImportedModel {
   std::vector<Material> materials;
-  std::vector<Object> objects;   // triangle meshes; material indices into `materials`
-  std::optional<Camera> camera;  // the file's first camera
+  std::vector<BumpFunction> bumps;  // the materials' normal maps, named "<material>/normal"
+  std::vector<Object> objects;      // triangle meshes; indices into `materials` and `bumps`
+  std::optional<Camera> camera;     // the file's first camera
   Vec3 bounds_min{0}, bounds_max{0};
   std::vector<std::string> warnings;  // what was dropped or assumed, naming the mesh
 };
@@ -34,8 +35,10 @@ struct ImportedModel {
 // Whether Assimp reads files with this name's extension (.glb, .gltf, .obj, .fbx, ...).
 bool is_model_file(const std::filesystem::path& file);
 
-// Throws ModelError.
-ImportedModel import_model(const std::filesystem::path& file);
+// Throws ModelError. With `confine`, a texture the model names outside that directory is
+// refused (a server's asset directory); without it textures resolve from the model's own.
+ImportedModel import_model(const std::filesystem::path& file,
+                           const std::optional<std::filesystem::path>& confine = {});
 
 // Moves the model by `to_world` (positions; normals by its inverse transpose; a mirroring
 // one turns the triangles' winding back; bounds and camera follow).

@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "common/paths.h"
 #include "protocol/json_node.h"
 #include "protocol/model_import.h"
 #include "solver/scene/geometry.h"
@@ -428,7 +429,10 @@ void add_model(const Node& n, std::size_t index, const std::map<std::string, int
   const Node file = n["file"];
   ImportedModel model;
   try {
-    model = import_model(files.resolve(file.string()));
+    const std::filesystem::path resolved = files.resolve(file.string());
+    model = import_model(resolved, files.access == ImageFiles::Access::Sandbox
+                                       ? std::optional(files.root)
+                                       : std::nullopt);
   } catch (const std::invalid_argument& e) {
     file.fail(e.what());
   } catch (const ModelError& e) {
@@ -485,9 +489,17 @@ void add_model(const Node& n, std::size_t index, const std::map<std::string, int
     }
   const std::string prefix =
       (n.get("name") ? n["name"].string() : "model" + std::to_string(index)) + "/";
+  // The model's normal maps join the scene's bumps under the object's prefix, so a
+  // re-texture can name one ("lamp/Brass/normal") to swap it.
+  const int first_bump = int(scene.bumps.size());
+  for (BumpFunction& b : model.bumps) {
+    b.name = prefix + b.name;
+    scene.bumps.push_back(std::move(b));
+  }
   for (Object& o : model.objects) {
     o.name = prefix + o.name;
     o.material = ids[std::size_t(o.material)];
+    if (o.bump >= 0) o.bump += first_bump;
     if (auto v = n.get("flip_normals")) o.flip_normals = v->boolean();
     if (auto v = n.get("mesh")) o.density = parse_density(*v);
     if (auto v = n.get("bump")) {
@@ -576,13 +588,11 @@ std::filesystem::path ImageFiles::resolve(const std::string& name) const {
     throw std::invalid_argument("\"" + name +
                                 "\" must be a path inside the asset directory, without \"..\"");
   // Symbolic links inside the sandbox must not lead out of it either.
-  std::error_code error;
-  auto base = std::filesystem::weakly_canonical(root, error);
-  auto full = std::filesystem::weakly_canonical(root / relative, error);
-  auto [b, f] = std::mismatch(base.begin(), base.end(), full.begin(), full.end());
-  if (error || b != base.end())
+  if (!lies_inside(root, root / relative))
     throw std::invalid_argument("\"" + name + "\" leads outside the asset directory");
+  const auto full = std::filesystem::weakly_canonical(root / relative);
   // Opening a FIFO or a device would block, or never end: only regular files are read.
+  std::error_code error;
   auto status = std::filesystem::status(full, error);
   if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
     throw std::invalid_argument("\"" + name + "\" is not a regular file in the asset directory");

@@ -45,10 +45,7 @@ Rgb texture_reflectance(const ColorTexture& t, glm::dvec2 uv) {
 
 Rgb texture_mean(const ColorTexture& t) {
   if (t.kind == ColorTexture::Kind::Checker) return (t.colors[0] + t.colors[1]) / 2.0;
-  Rgb sum(0);
-  for (int y = 0; y < t.image->height; ++y)
-    for (int x = 0; x < t.image->width; ++x) sum += t.image->at(x, y);
-  return sum / double(t.image->width * t.image->height);
+  return image_mean(*t.image);
 }
 
 std::vector<Rgb> element_reflectance(const Mesh& mesh, std::span<const Material> materials) {

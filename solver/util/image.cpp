@@ -26,6 +26,13 @@ void Image::set(int x, int y, const Rgb& c) {
   rgb[i + 2] = float(c.b);
 }
 
+Rgb image_mean(const Image& image) {
+  Rgb sum(0);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) sum += image.at(x, y);
+  return sum / double(std::max(1, image.width * image.height));
+}
+
 double srgb_encode(double x) {
   x = std::clamp(x, 0.0, 1.0);
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;

@@ -23,6 +23,9 @@ struct Image {
   void set(int x, int y, const Rgb& c);
 };
 
+// The mean of its pixels.
+Rgb image_mean(const Image& image);
+
 // Linear [0,1] to the sRGB transfer curve.
 double srgb_encode(double linear);
 

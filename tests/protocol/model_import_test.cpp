@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -113,7 +114,14 @@ TEST(ModelImport, TheCornellBoxAsObjRendersLikeTheBuiltIn) {
 
 // Writes a glTF whose one quad (z = 0, facing +z, uvs over [0,1]^2) sits under a node that
 // moves it by (5, 0, 0) and mirrors x: the quad lands at x in [4, 5] and still faces +z.
-std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir) {
+// `material` replaces its one material; `extra` adds top-level keys (textures, images).
+std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir,
+                                         const std::string& material =
+                                             R"({"name": "glow", "pbrMetallicRoughness":
+                                                 {"baseColorFactor": [0.5, 0.25, 1, 1],
+                                                  "metallicFactor": 0},
+                                                 "emissiveFactor": [1, 0.5, 0.25]})",
+                                         const std::string& extra = "") {
   const float positions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
   const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
@@ -131,8 +139,8 @@ std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir) {
             {"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
   "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
                                               "indices": 2, "material": 0}]}],
-  "materials": [{"name": "glow", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 1]},
-                 "emissiveFactor": [1, 0.5, 0.25]}],
+  "materials": [)" + material + R"(],)" + extra +
+                                          R"(
   "buffers": [{"uri": "quad.bin", "byteLength": 92}],
   "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
                   {"buffer": 0, "byteOffset": 48, "byteLength": 32},
@@ -170,6 +178,85 @@ TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
   const Scene scene = scene_from_model(model);
   EXPECT_EQ(scene.camera.look_at, Vec3(4.5, 0.5, 0));
   EXPECT_GT(scene.camera.position.z, 0);
+}
+
+void write_uniform_exr(const std::filesystem::path& file, const Rgb& value) {
+  Image image(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) image.set(x, y, value);
+  write_image(file, image, 1);
+}
+
+// glTF's metallic/roughness, normalTexture (with its scale) and emissiveTexture.
+TEST(ModelImport, MetalNormalMapsAndEmissiveTextures) {
+  const auto dir = test::fresh_temp_dir("import-pbr");
+  write_uniform_exr(dir / "n.exr", Rgb(0.8, 0.5, 0.9));
+  write_uniform_exr(dir / "e.exr", Rgb(0.5, 0.25, 1));
+  const ImportedModel model = import_model(mirrored_quad_gltf(dir, R"({"name": "brass",
+      "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.2, 1], "metallicFactor": 1,
+                               "roughnessFactor": 0.5},
+      "normalTexture": {"index": 0, "scale": 0.5},
+      "emissiveTexture": {"index": 1}, "emissiveFactor": [2, 2, 2]})",
+                                                              R"(
+  "textures": [{"source": 0}, {"source": 1}],
+  "images": [{"uri": "n.exr"}, {"uri": "e.exr"}],)"));
+  ASSERT_EQ(model.objects.size(), 1u);
+  const Material& m = model.materials[std::size_t(model.objects[0].material)];
+  // All metal: no diffuse part; k_s the base colour's mean, Phong n = 2 / 0.5^4 - 2 = 30.
+  EXPECT_EQ(m.reflectance, Rgb(0));
+  EXPECT_NEAR(m.specular, (0.8 + 0.6 + 0.2) / 3, 1e-6);
+  EXPECT_NEAR(m.shininess, 30, 1e-9);
+  // Emission: pi x factor x the texture's mean, with a warning that it is uniform.
+  EXPECT_NEAR(glm::length(m.emission - std::numbers::pi * 2 * Rgb(0.5, 0.25, 1)), 0, 1e-3);
+  EXPECT_TRUE(std::any_of(model.warnings.begin(), model.warnings.end(), [](const std::string& w) {
+    return w.find("material \"brass\": its emissive texture is read as its mean") !=
+           std::string::npos;
+  }));
+  ASSERT_EQ(model.bumps.size(), 1u);
+  EXPECT_EQ(model.objects[0].bump, 0);
+  const BumpFunction& n = model.bumps[0];
+  EXPECT_EQ(n.name, "brass/normal");
+  EXPECT_EQ(n.type, BumpType::NormalMap);
+  EXPECT_EQ(n.strength, 0.5);
+  ASSERT_TRUE(n.image);
+  EXPECT_NEAR(n.image->at(1, 1).r, 0.8, 1e-3);  // data: read as stored
+  const Scene scene = scene_from_model(model);
+  ASSERT_EQ(scene.bumps.size(), 1u);
+
+  // glTF's defaults are metallic 1, roughness 1: a rough metal, Phong n at its floor of 1.
+  const ImportedModel rough = import_model(mirrored_quad_gltf(
+      dir,
+      R"({"name": "plain", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1]}})"));
+  const Material& r = rough.materials[std::size_t(rough.objects[0].material)];
+  EXPECT_EQ(r.reflectance, Rgb(0));
+  EXPECT_NEAR(r.specular, 0.5, 1e-6);
+  EXPECT_EQ(r.shininess, 1);
+  EXPECT_TRUE(rough.bumps.empty());
+  EXPECT_EQ(rough.objects[0].bump, -1);
+}
+
+// OBJ's norm, and bump/map_Bump read as a normal map with its -bm, as Blender reads it.
+TEST(ModelImport, ObjBumpMapsAreNormalMaps) {
+  const auto dir = test::fresh_temp_dir("import-obj-bump");
+  write_uniform_exr(dir / "n.exr", Rgb(0.5, 0.5, 1));
+  std::ofstream(dir / "quad.mtl") << "newmtl tiles\nKd 0.5 0.5 0.5\nmap_Bump -bm 0.3 n.exr\n"
+                                     "newmtl plaster\nKd 0.5 0.5 0.5\nnorm n.exr\n";
+  std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\n"
+                                     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                     "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                     "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                     "usemtl tiles\nf 1/1 2/2 3/3 4/4\n"
+                                     "usemtl plaster\nf 5/1 6/2 7/3 8/4\n";
+  const ImportedModel model = import_model(dir / "quad.obj");
+  ASSERT_EQ(model.bumps.size(), 2u);
+  std::map<std::string, double> strength;
+  for (const BumpFunction& b : model.bumps) {
+    EXPECT_EQ(b.type, BumpType::NormalMap);
+    strength[b.name] = b.strength;
+  }
+  EXPECT_NEAR(strength["tiles/normal"], 0.3, 1e-6);
+  EXPECT_EQ(strength["plaster/normal"], 1);
+  for (const Object& o : model.objects) EXPECT_GE(o.bump, 0) << o.name;
 }
 
 TEST(ModelImport, RealFilesKeepTheirTextureCoordinatesMaterialsAndCameras) {
@@ -365,6 +452,51 @@ TEST(ModelImport, SceneJsonPlacesModels) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), "/objects/1/file") << e.what();
   }
+}
+
+// A placed model's normal maps are scene bumps under its name, swapped by name as any bump
+// is; on a server its textures stay inside the asset directory as its own file must.
+TEST(ModelImport, PlacedNormalMapsAreNamedAndConfined) {
+  namespace fs = std::filesystem;
+  const auto assets = test::fresh_temp_dir("import-confined");
+  fs::create_directories(assets / "lamp");
+  write_uniform_exr(assets / "lamp" / "n.exr", Rgb(0.6, 0.5, 0.9));
+  write_uniform_exr(assets.parent_path() / "confined-outside.exr", Rgb(0.6, 0.5, 0.9));
+  const auto material = [](const std::string& uri) {
+    return std::pair(std::string(R"({"name": "brass", "pbrMetallicRoughness": {"metallicFactor": 0},
+                                     "normalTexture": {"index": 0}})"),
+                     R"(
+  "textures": [{"source": 0}], "images": [{"uri": ")" +
+                         uri + R"("}],)");
+  };
+  auto [inside, inside_extra] = material("n.exr");
+  mirrored_quad_gltf(assets / "lamp", inside, inside_extra);
+  nlohmann::json doc = scene_placing("lamp/quad.gltf");
+  doc["objects"][1].erase("bump");
+  const ImageFiles sandbox = ImageFiles::sandbox(assets);
+  Scene scene = parse_scene(doc, sandbox);
+  ASSERT_EQ(scene.bumps.size(), 2u);
+  EXPECT_EQ(scene.bumps[1].name, "lamp/brass/normal");
+  EXPECT_EQ(scene.objects[1].bump, 1);
+  apply_bump_overrides(nlohmann::json::parse(R"({"lamp/brass/normal": {"type": "dimples"}})"),
+                       scene, "/bumps", sandbox);
+  EXPECT_EQ(scene.bumps[1].type, BumpType::Dimples);
+
+  auto [outside, outside_extra] = material("../../confined-outside.exr");
+  mirrored_quad_gltf(assets / "lamp", outside, outside_extra);
+  try {
+    parse_scene(doc, sandbox);
+    ADD_FAILURE() << "a texture outside the assets was read";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.pointer(), "/objects/1/file");
+    EXPECT_NE(
+        std::string(e.what()).find("texture \"../../confined-outside.exr\" lies outside the asset "
+                                   "directory"),
+        std::string::npos)
+        << e.what();
+  }
+  // From the command line (no sandbox) the same model reads its texture beside it.
+  EXPECT_EQ(parse_scene(scene_placing((assets / "lamp/quad.gltf").string())).bumps.size(), 2u);
 }
 
 }  // namespace
