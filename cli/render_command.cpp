@@ -94,10 +94,6 @@ int run_render(std::span<const std::string_view> args) {
   const RenderArgs a = parse_args(args);
   std::string scene_json;
   Scene scene = load_scene(a.scene, &scene_json);
-  if (scene_json.empty() && !a.save_map.empty())
-    throw UsageError(
-        "--save-map keeps the scene as JSON, which a model file has none of yet: "
-        "save the map of a JSON scene");
   try {
     apply_solver_settings(a.overrides, scene.solver, "");
   } catch (const SceneError& e) {

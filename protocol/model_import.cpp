@@ -187,7 +187,9 @@ class Reader {
       }
       const std::filesystem::path file = file_.parent_path() / name;
       if (confine_ && !lies_inside(*confine_, file))
-        fail(what + " lies outside the asset directory");
+        fail(what +
+             " lies outside the files this model may read (the scene's \"files\", or the "
+             "server's asset directory)");
       if (!std::filesystem::exists(file)) fail(what + " is missing");
       if (!std::filesystem::is_regular_file(file)) fail(what + " is not a regular file");
       return std::make_shared<Image>(read_image(file, kMaxTexturePixels, meaning));
@@ -370,78 +372,6 @@ void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
     model.camera->look_at = point(model.camera->look_at);
     model.camera->up = glm::normalize(linear * model.camera->up);
   }
-}
-
-namespace {
-
-// The camera for a model without one, 40 degrees high. An object (its faces turned out)
-// is seen from in front (+z, glTF's front), its bounding sphere filling the view. A room
-// (faces turned in: what lights it from inside) is seen across from the side of its bounds
-// with the least wall facing in, sides before floor and ceiling: from outside an open side
-// (the Cornell box's), from just inside a closed room's wall.
-Camera framed_camera(const ImportedModel& model, Camera camera) {
-  const Vec3 centre = (model.bounds_min + model.bounds_max) / 2.0,
-             half = (model.bounds_max - model.bounds_min) / 2.0;
-  double inward = 0;
-  std::array<double, 6> wall{};  // area facing in near each side: +x, -x, +y, -y, +z, -z
-  for (const Object& o : model.objects) {
-    const auto& m = std::get<TriangleMeshShape>(o.shape);
-    for (const auto& t : m.triangles) {
-      const Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
-      const Vec3 n = glm::cross(b - a, c - a) / 2.0;  // area times the unit normal
-      const Vec3 at = (a + b + c) / 3.0 - centre;
-      inward -= glm::dot(n, at);
-      for (int k = 0; k < 6; ++k) {
-        const int axis = k / 2;
-        const double side = k % 2 ? -1 : 1;
-        if (side * at[axis] > 0.9 * half[axis])
-          wall[std::size_t(k)] += std::max(0.0, -side * n[axis]);
-      }
-    }
-  }
-  const double fov = camera.fov_y_deg * std::numbers::pi / 180;
-  camera.up = {0, 1, 0};
-  if (!(inward > 0)) {
-    const double radius = std::max(1e-9, glm::length(half));
-    camera.look_at = centre;
-    camera.position = centre + Vec3(0, 0, radius / std::sin(fov / 2));
-    return camera;
-  }
-  std::size_t open = 4;  // +z unless another side has less wall
-  for (std::size_t k : {4, 5, 0, 1, 2, 3})
-    if (wall[k] < wall[open] * (1 - 1e-9)) open = k;
-  const int axis = int(open / 2);
-  Vec3 d(0);
-  d[axis] = open % 2 ? -1 : 1;
-  // An open side (next to no wall there): from outside it, the room's cross-section filling
-  // the view, as the Cornell box's own camera stands. A closed room: from just inside a wall.
-  double across = 0, walls = 0;
-  for (int c = 0; c < 3; ++c)
-    if (c != axis) across = std::max(across, half[c]);
-  for (double w : wall) walls += w / 6;
-  const bool outside = wall[open] < 0.01 * walls;
-  camera.position =
-      centre + d * (outside ? half[axis] + across / std::tan(fov / 2) : 0.95 * half[axis]);
-  camera.look_at = centre;
-  if (axis == 1) camera.up = {0, 0, 1};
-  return camera;
-}
-
-}  // namespace
-
-Scene scene_from_model(const ImportedModel& model) {
-  Scene scene;
-  scene.materials = model.materials;
-  scene.bumps = model.bumps;
-  scene.objects = model.objects;
-  scene.camera = model.camera ? *model.camera : framed_camera(model, scene.camera);
-  std::size_t elements = 0;
-  const double size = default_element_size(scene);
-  for (const Object& o : scene.objects) elements += estimate_element_count(o, size);
-  if (elements > std::size_t(Limits::kMaxElements))
-    throw ModelError("the model would mesh into about " + std::to_string(elements) +
-                     " elements; at most " + std::to_string(Limits::kMaxElements));
-  return scene;
 }
 
 }  // namespace bumprad

@@ -35,18 +35,13 @@ struct ImportedModel {
 // Whether Assimp reads files with this name's extension (.glb, .gltf, .obj, .fbx, ...).
 bool is_model_file(const std::filesystem::path& file);
 
-// Throws ModelError. With `confine`, a texture the model names outside that directory is
-// refused (a server's asset directory); without it textures resolve from the model's own.
+// Throws ModelError. Textures resolve from the model's directory; with `confine`, one that
+// lies outside that directory (a server's asset directory, a scene's own files) is refused.
 ImportedModel import_model(const std::filesystem::path& file,
                            const std::optional<std::filesystem::path>& confine = {});
 
 // Moves the model by `to_world` (positions; normals by its inverse transpose; a mirroring
 // one turns the triangles' winding back; bounds and camera follow).
 void transform_model(ImportedModel& model, const glm::dmat4& to_world);
-
-// The model as a whole scene: its materials and meshes, its camera or else one framed on it
-// (an object from in front, +z; a room, its faces turned in, from inside by its most open
-// side), solver defaults.
-Scene scene_from_model(const ImportedModel& model);
 
 }  // namespace bumprad

@@ -15,6 +15,7 @@
 #include "common/paths.h"
 #include "protocol/json_node.h"
 #include "protocol/model_import.h"
+#include "solver/scene/camera.h"
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
@@ -422,17 +423,18 @@ void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& po
 // (scale, then rotation_deg about x, y, z as boxes turn, then translate), its materials added
 // to the scene's unless "materials" maps a model material's name to a scene material, the
 // object's "bump" and "mesh" applied to every mesh. The file resolves as image files do.
-void add_model(const Node& n, std::size_t index, const std::map<std::string, int>& material_ids,
-               const std::map<std::string, int>& bump_ids, const ImageFiles& files, Scene& scene) {
+// Returns the model's camera, placed; its warnings join `warnings`.
+std::optional<Camera> add_model(const Node& n, std::size_t index,
+                                const std::map<std::string, int>& material_ids,
+                                const std::map<std::string, int>& bump_ids, const ImageFiles& files,
+                                Scene& scene, std::vector<std::string>& warnings) {
   n.allow_only({"type", "name", "file", "transform", "materials", "bump", "mesh", "flip_normals"},
                "model");
   const Node file = n["file"];
   ImportedModel model;
   try {
     const std::filesystem::path resolved = files.resolve(file.string());
-    model = import_model(resolved, files.access == ImageFiles::Access::Sandbox
-                                       ? std::optional(files.root)
-                                       : std::nullopt);
+    model = import_model(resolved, files.confinement(file.string()));
   } catch (const std::invalid_argument& e) {
     file.fail(e.what());
   } catch (const ModelError& e) {
@@ -487,8 +489,15 @@ void add_model(const Node& n, std::size_t index, const std::map<std::string, int
         target.fail("unknown material \"" + target.string() + "\"");
       ids[std::size_t(found - model.materials.begin())] = scene_material->second;
     }
-  const std::string prefix =
-      (n.get("name") ? n["name"].string() : "model" + std::to_string(index)) + "/";
+  // Names under the object's "name", else the file's stem (the index added if another
+  // object took it), so a bare model file's normal maps read "room/Brick/normal".
+  std::string name =
+      n.get("name") ? n["name"].string() : std::filesystem::path(file.string()).stem().string();
+  if (!n.get("name") &&
+      std::any_of(scene.objects.begin(), scene.objects.end(),
+                  [&](const Object& o) { return o.name.rfind(name + "/", 0) == 0; }))
+    name += "-" + std::to_string(index);
+  const std::string prefix = name + "/";
   // The model's normal maps join the scene's bumps under the object's prefix, so a
   // re-texture can name one ("lamp/Brass/normal") to swap it.
   const int first_bump = int(scene.bumps.size());
@@ -509,24 +518,38 @@ void add_model(const Node& n, std::size_t index, const std::map<std::string, int
     }
     scene.objects.push_back(std::move(o));
   }
+  // The importer names the resolved path; the request named the file.
+  for (std::string& w : model.warnings)
+    warnings.push_back(n.pointer() + ": \"" + file.string() + "\"" +
+                       w.substr(std::min(w.size(), w.find(": "))));
+  return model.camera;
 }
 
-Scene parse_scene(const json& document, const ImageFiles& files) {
+Scene parse_scene(const json& document, const ImageFiles& outside,
+                  std::vector<std::string>* warnings) {
   Node root(document, "");
-  root.allow_only({"version", "description", "camera", "materials", "bumps", "objects", "solver"});
+  root.allow_only(
+      {"version", "description", "files", "camera", "materials", "bumps", "objects", "solver"});
+  // The scene's own files, where its names look first, for as long as this parse.
+  std::optional<EmbeddedFiles> embedded;
+  ImageFiles files = outside;
+  if (auto v = root.get("files")) files.embedded = &embedded.emplace(v->value(), v->pointer());
   if (auto v = root.get("version"); v && v->integer(1, 1) != 1) v->fail("unsupported version");
   if (auto v = root.get("description")) v->string();
 
   Scene scene;
-  scene.camera = parse_camera(root["camera"]);
+  if (auto v = root.get("camera")) scene.camera = parse_camera(*v);
+  std::optional<Camera> model_camera;
+  std::vector<std::string> model_warnings;
 
   std::map<std::string, int> material_ids;
-  Node materials = root["materials"];
-  for (auto it = materials.object().begin(); it != materials.value().end(); ++it) {
-    Node m(*it, materials.pointer() + "/" + escape_token(it.key()));
-    material_ids[it.key()] = int(scene.materials.size());
-    scene.materials.push_back(parse_material(m, it.key(), files));
-  }
+  // Optional: placed models bring their own.
+  if (auto materials = root.get("materials"))
+    for (auto it = materials->object().begin(); it != materials->value().end(); ++it) {
+      Node m(*it, materials->pointer() + "/" + escape_token(it.key()));
+      material_ids[it.key()] = int(scene.materials.size());
+      scene.materials.push_back(parse_material(m, it.key(), files));
+    }
 
   std::map<std::string, int> bump_ids;
   if (auto bumps = root.get("bumps"))
@@ -540,9 +563,10 @@ Scene parse_scene(const json& document, const ImageFiles& files) {
   std::size_t n = objects.array(1, std::size_t(Limits::kMaxElements));
   std::vector<std::size_t> from;  // per scene object, its entry in "objects"
   for (std::size_t i = 0; i < n; ++i) {
-    if (objects[i].get("type") && objects[i]["type"].value() == "model")
-      add_model(objects[i], i, material_ids, bump_ids, files, scene);
-    else
+    if (objects[i].get("type") && objects[i]["type"].value() == "model") {
+      auto camera = add_model(objects[i], i, material_ids, bump_ids, files, scene, model_warnings);
+      if (!model_camera) model_camera = camera;
+    } else
       scene.objects.push_back(parse_object(objects[i], i, material_ids, bump_ids));
     from.resize(scene.objects.size(), i);
   }
@@ -560,11 +584,16 @@ Scene parse_scene(const json& document, const ImageFiles& files) {
                             " elements; raise element_size (per object under \"mesh\", or in "
                             "\"solver\")");
   }
+  // Without a "camera": the first placed model's own, else one framed on the scene.
+  if (!root.get("camera"))
+    scene.camera = model_camera ? *model_camera : framed_camera(build_mesh(scene), scene.camera);
+  if (warnings) warnings->insert(warnings->end(), model_warnings.begin(), model_warnings.end());
   return scene;
 }
 
-Scene parse_scene(std::string_view text, const ImageFiles& files) {
-  return parse_scene(parse_json(text), files);
+Scene parse_scene(std::string_view text, const ImageFiles& files,
+                  std::vector<std::string>* warnings) {
+  return parse_scene(parse_json(text), files, warnings);
 }
 
 Camera parse_camera_changes(const json& changes, const Camera& base, const std::string& pointer) {
@@ -572,6 +601,7 @@ Camera parse_camera_changes(const json& changes, const Camera& base, const std::
 }
 
 std::filesystem::path ImageFiles::resolve(const std::string& name) const {
+  if (embedded && embedded->contains(name)) return embedded->dir() / name;
   switch (access) {
     case Access::WorkingDirectory:
       return name;
@@ -597,6 +627,12 @@ std::filesystem::path ImageFiles::resolve(const std::string& name) const {
   if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
     throw std::invalid_argument("\"" + name + "\" is not a regular file in the asset directory");
   return full;
+}
+
+std::optional<std::filesystem::path> ImageFiles::confinement(const std::string& name) const {
+  if (embedded && embedded->contains(name)) return embedded->dir();
+  if (access == Access::Sandbox) return root;
+  return std::nullopt;
 }
 
 }  // namespace bumprad

@@ -3,12 +3,15 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "protocol/embedded_files.h"
 #include "protocol/json_parse.h"
 #include "solver/scene/scene.h"
 
@@ -21,17 +24,25 @@ struct ImageFiles {
   enum class Access { WorkingDirectory, Sandbox, Refused };
   Access access = Access::WorkingDirectory;
   std::filesystem::path root;  // the sandbox
+  // The scene's own "files", which its names reach first (set while a scene is parsed).
+  const EmbeddedFiles* embedded = nullptr;
 
   static ImageFiles sandbox(std::filesystem::path dir) { return {Access::Sandbox, std::move(dir)}; }
   static ImageFiles refused() { return {Access::Refused, {}}; }
 
   // The file to open for `name`; throws std::invalid_argument saying why it may not be.
   std::filesystem::path resolve(const std::string& name) const;
+  // The directory whose files `name`'s may name in turn (a model's textures): the scene's
+  // files' or the sandbox; none from the working directory.
+  std::optional<std::filesystem::path> confinement(const std::string& name) const;
 };
 
-// Throws SceneError; never returns a partly valid scene.
-Scene parse_scene(std::string_view json_text, const ImageFiles& files = {});
-Scene parse_scene(const nlohmann::json& document, const ImageFiles& files = {});
+// Throws SceneError; never returns a partly valid scene. What a placed model's importer
+// dropped or assumed goes to `warnings` (each names the object's field and its file).
+Scene parse_scene(std::string_view json_text, const ImageFiles& files = {},
+                  std::vector<std::string>* warnings = nullptr);
+Scene parse_scene(const nlohmann::json& document, const ImageFiles& files = {},
+                  std::vector<std::string>* warnings = nullptr);
 
 // `base` with the keys of a camera block that `changes` gives, e.g. to re-render from a new
 // view or at another size; with the same checks as a scene's "camera".

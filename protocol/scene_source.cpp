@@ -31,19 +31,24 @@ std::string load_scene_text(const std::string& source) {
 }
 
 Scene load_scene(const std::string& source, std::string* text_out) {
-  if (source.rfind("builtin:", 0) != 0 && is_model_file(source)) {
-    if (text_out) text_out->clear();
-    const ImportedModel model = import_model(source);
-    for (const std::string& w : model.warnings)
-      std::fprintf(stderr, "bumprad: warning: %s\n", w.c_str());
-    return scene_from_model(model);
-  }
-  std::string text = load_scene_text(source);
+  // A model file is the scene of one placed model: its camera or one framed on it.
+  const bool model = source.rfind("builtin:", 0) != 0 && is_model_file(source);
+  const std::string text =
+      model ? nlohmann::json{{"objects", {{{"type", "model"}, {"file", source}}}}}.dump()
+            : load_scene_text(source);
   if (text_out) *text_out = text;
   try {
-    return parse_scene(std::string_view(text));
+    std::vector<std::string> warnings;
+    Scene scene = parse_scene(std::string_view(text), {}, &warnings);
+    // A model file's warnings name it after the field that placed it: the field goes.
+    for (const std::string& w : warnings)
+      std::fprintf(stderr, "bumprad: warning: %s\n",
+                   model ? w.substr(w.find(": ") + 2).c_str() : (source + ": " + w).c_str());
+    return scene;
   } catch (const SceneError& e) {
     if (source.rfind("builtin:", 0) == 0) throw;
+    // A model's errors name its file already, after the field that placed it.
+    if (model && e.pointer() == "/objects/0/file") throw std::runtime_error(e.reason());
     throw std::runtime_error(source + ": " + e.what());
   }
 }

@@ -12,8 +12,9 @@ namespace bumprad {
 std::string load_scene_text(const std::string& source);
 
 // Throws std::runtime_error (unknown built-in, unreadable or invalid file). With `text`,
-// also hands back the JSON it parsed (what a saved solution keeps); empty for a model file,
-// which has none. A model's warnings go to stderr.
+// also hands back the JSON it parsed (what a saved solution keeps): for a model file, the
+// scene that places it, {"objects": [{"type": "model", "file": ...}]}. Models' warnings go
+// to stderr.
 Scene load_scene(const std::string& source, std::string* text = nullptr);
 
 // Applies a bump file (the JSON of a scene's "bumps" block) to `scene`, replacing bump

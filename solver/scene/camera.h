@@ -1,6 +1,7 @@
 // A pinhole camera: image-plane positions to world-space rays.
 #pragma once
 
+#include "solver/scene/mesh.h"
 #include "solver/scene/scene.h"
 
 namespace bumprad {
@@ -18,6 +19,14 @@ Camera draft_camera(Camera camera);
 // on an m x m grid. camera.antialias_max, or 0 for 2n (at most Limits::kMaxAntialiasMax); at
 // most n (and with n = 1, which gives no disagreement to see) turns it off.
 int adaptive_antialias(const Camera& camera);
+
+// `camera` (its image size and field of view kept) placed to see a scene that names none
+// (a model file without a camera). An object, its faces turned out on the whole, is seen
+// from in front (+z, glTF's front), its bounding sphere filling the view. A room (faces
+// turned in: what lights it from inside) is seen across from the side of its bounds with the
+// least wall facing in, sides before floor and ceiling: from outside an open side (the
+// Cornell box's), from just inside a closed room's wall.
+Camera framed_camera(const Mesh& mesh, Camera camera);
 
 class PinholeCamera {
  public:

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <numbers>
 
@@ -14,6 +15,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "protocol/base64.h"
 #include "protocol/scene_json.h"
 #include "protocol/scene_source.h"
 #include "solver/render/error_estimate.h"
@@ -155,7 +157,8 @@ std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir,
 
 TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
   const auto dir = test::fresh_temp_dir("import-gltf");
-  const ImportedModel model = import_model(mirrored_quad_gltf(dir));
+  const auto file = mirrored_quad_gltf(dir);
+  const ImportedModel model = import_model(file);
   ASSERT_EQ(model.objects.size(), 1u);
   EXPECT_EQ(model.objects[0].name, "mirror/quad");
   EXPECT_EQ(model.bounds_min, Vec3(4, 0, 0));
@@ -166,7 +169,10 @@ TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
   EXPECT_EQ(m.name, "glow");
   EXPECT_NEAR(glm::length(m.reflectance - Rgb(0.5, 0.25, 0.99)), 0, 1e-6);  // 1 read as 0.99
   EXPECT_NEAR(glm::length(m.emission - std::numbers::pi * Rgb(1, 0.5, 0.25)), 0, 1e-6);
-  const Mesh mesh = build_mesh(scene_from_model(model));
+  // The file alone is a scene: its one model, named for the file.
+  const Scene scene = load_scene(file.string());
+  EXPECT_EQ(scene.objects[0].name, "quad/mirror/quad");
+  const Mesh mesh = build_mesh(scene);
   ASSERT_FALSE(mesh.elements.empty());
   for (const Element& e : mesh.elements) EXPECT_NEAR(e.normal.z, 1, 1e-9);
   // The uvs follow the (mirrored) quad: u runs along -x.
@@ -175,7 +181,6 @@ TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
     EXPECT_NEAR(v.uv.y, v.position.y, 1e-6);
   }
   // No camera in the file: one framed on the model, looking at its centre.
-  const Scene scene = scene_from_model(model);
   EXPECT_EQ(scene.camera.look_at, Vec3(4.5, 0.5, 0));
   EXPECT_GT(scene.camera.position.z, 0);
 }
@@ -192,14 +197,15 @@ TEST(ModelImport, MetalNormalMapsAndEmissiveTextures) {
   const auto dir = test::fresh_temp_dir("import-pbr");
   write_uniform_exr(dir / "n.exr", Rgb(0.8, 0.5, 0.9));
   write_uniform_exr(dir / "e.exr", Rgb(0.5, 0.25, 1));
-  const ImportedModel model = import_model(mirrored_quad_gltf(dir, R"({"name": "brass",
+  const auto file = mirrored_quad_gltf(dir, R"({"name": "brass",
       "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.6, 0.2, 1], "metallicFactor": 1,
                                "roughnessFactor": 0.5},
       "normalTexture": {"index": 0, "scale": 0.5},
       "emissiveTexture": {"index": 1}, "emissiveFactor": [2, 2, 2]})",
-                                                              R"(
+                                       R"(
   "textures": [{"source": 0}, {"source": 1}],
-  "images": [{"uri": "n.exr"}, {"uri": "e.exr"}],)"));
+  "images": [{"uri": "n.exr"}, {"uri": "e.exr"}],)");
+  const ImportedModel model = import_model(file);
   ASSERT_EQ(model.objects.size(), 1u);
   const Material& m = model.materials[std::size_t(model.objects[0].material)];
   // All metal: no diffuse part; k_s the base colour's mean, Phong n = 2 / 0.5^4 - 2 = 30.
@@ -220,8 +226,9 @@ TEST(ModelImport, MetalNormalMapsAndEmissiveTextures) {
   EXPECT_EQ(n.strength, 0.5);
   ASSERT_TRUE(n.image);
   EXPECT_NEAR(n.image->at(1, 1).r, 0.8, 1e-3);  // data: read as stored
-  const Scene scene = scene_from_model(model);
+  const Scene scene = load_scene(file.string());
   ASSERT_EQ(scene.bumps.size(), 1u);
+  EXPECT_EQ(scene.bumps[0].name, "quad/brass/normal");
 
   // glTF's defaults are metallic 1, roughness 1: a rough metal, Phong n at its floor of 1.
   const ImportedModel rough = import_model(mirrored_quad_gltf(
@@ -270,7 +277,11 @@ TEST(ModelImport, RealFilesKeepTheirTextureCoordinatesMaterialsAndCameras) {
   EXPECT_EQ(shape.uvs.size(), shape.positions.size());
   EXPECT_EQ(shape.normals.size(), shape.positions.size());
   // Its six faces stay apart at the creases: 24 vertices, 4 a face.
-  EXPECT_EQ(build_mesh(scene_from_model(box)).surface_count, 1u);
+  EXPECT_EQ(
+      build_mesh(
+          load_scene((kTestModels / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb").string()))
+          .surface_count,
+      1u);
 
   const ImportedModel obj = import_model(kTestModels / "OBJ/box.obj");
   ASSERT_FALSE(obj.objects.empty());
@@ -490,13 +501,72 @@ TEST(ModelImport, PlacedNormalMapsAreNamedAndConfined) {
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), "/objects/1/file");
     EXPECT_NE(
-        std::string(e.what()).find("texture \"../../confined-outside.exr\" lies outside the asset "
-                                   "directory"),
+        std::string(e.what()).find("texture \"../../confined-outside.exr\" lies outside the "
+                                   "files this model may read"),
         std::string::npos)
         << e.what();
   }
   // From the command line (no sandbox) the same model reads its texture beside it.
   EXPECT_EQ(parse_scene(scene_placing((assets / "lamp/quad.gltf").string())).bumps.size(), 2u);
+}
+
+std::string file_bytes(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::size_t temporary_file_dirs() {
+  std::size_t n = 0;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+    n += entry.path().filename().string().rfind("bumprad-files-", 0) == 0;
+  return n;
+}
+
+// A scene carries its model, the model's buffer and its normal map in "files": a server
+// without --assets reads them, and nothing of them is left on disk after the parse.
+TEST(ModelImport, AScenesOwnFilesCarryItsModels) {
+  const auto dir = test::fresh_temp_dir("import-embedded");
+  write_uniform_exr(dir / "n.exr", Rgb(0.6, 0.5, 0.9));
+  mirrored_quad_gltf(dir, R"({"name": "brass", "pbrMetallicRoughness": {"metallicFactor": 0},
+                               "normalTexture": {"index": 0}})",
+                     R"(
+  "textures": [{"source": 0}], "images": [{"uri": "n.exr"}],)");
+  nlohmann::json doc = scene_placing("lamp/quad.gltf");
+  doc["objects"][1].erase("bump");
+  for (const char* name : {"quad.gltf", "quad.bin", "n.exr"})
+    doc["files"][std::string("lamp/") + name] = base64_encode(file_bytes(dir / name));
+  const std::size_t before = temporary_file_dirs();
+  const Scene scene = parse_scene(doc, ImageFiles::refused());
+  EXPECT_EQ(temporary_file_dirs(), before);
+  ASSERT_EQ(scene.bumps.size(), 2u);
+  EXPECT_EQ(scene.bumps[1].name, "lamp/brass/normal");
+  EXPECT_NEAR(scene.bumps[1].image->at(0, 0).r, 0.6, 1e-3);
+
+  const auto rejected = [&](const nlohmann::json& d) {
+    try {
+      parse_scene(d, ImageFiles::refused());
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  nlohmann::json bad = doc;
+  bad["files"]["lamp/n.exr"] = "not base64!";
+  EXPECT_EQ(rejected(bad),
+            "/files/lamp~1n.exr: must be the file's bytes in base64 (RFC 4648, padded)");
+  bad = doc;
+  bad["files"]["../n.exr"] = "";
+  EXPECT_NE(rejected(bad).find("/files/..~1n.exr: a file name must be a relative path without"),
+            std::string::npos)
+      << rejected(bad);
+  bad = doc;
+  bad["files"]["lamp/quad.gltf/x"] = "";
+  EXPECT_NE(rejected(bad).find("clashes with another file's"), std::string::npos) << rejected(bad);
+  bad = doc;
+  bad["files"].erase("lamp/n.exr");
+  EXPECT_NE(rejected(bad).find("texture \"n.exr\" is missing"), std::string::npos) << rejected(bad);
+  EXPECT_EQ(temporary_file_dirs(), before);
 }
 
 }  // namespace

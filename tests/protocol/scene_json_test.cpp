@@ -213,9 +213,14 @@ TEST(SceneJson, ReflectanceMustStayBelowOne) {
 }
 
 TEST(SceneJson, MissingFieldsAndMaterials) {
+  // Without a camera, one is framed on the scene: its image size and field of view are the
+  // defaults, and it looks at the centre of the scene's bounds.
   json d = minimal();
   d.erase("camera");
-  expect_rejected(d, "/camera", "is required");
+  const Scene framed = parse_scene(d);
+  EXPECT_EQ(framed.camera.width, Camera{}.width);
+  EXPECT_EQ(framed.camera.fov_y_deg, Camera{}.fov_y_deg);
+  EXPECT_NE(framed.camera.position, framed.camera.look_at);
   d = minimal();
   d["objects"][0].erase("material");
   expect_rejected(d, "/objects/0/material", "is required");
