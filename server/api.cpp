@@ -10,6 +10,7 @@
 #include "common/stopwatch.h"
 #include "protocol/api_json.h"
 #include "protocol/builtin_scenes.h"
+#include "protocol/upload.h"
 #include "server/step_stream.h"
 #include "server/web_assets.h"
 #include "solver/cost.h"
@@ -131,6 +132,34 @@ Response internal_error(const Request& request, std::string_view what) {
                valid_utf8(what).c_str());
   return problem(request, http::status::internal_server_error, "Internal error",
                  "the server could not answer this request; its log says why");
+}
+
+// The answer to a request a handler refused by throwing `e`: the exceptions of parsing a job,
+// storing it, and anything else as an internal error.
+Response refusal(const Request& request, std::exception_ptr thrown) {
+  try {
+    std::rethrow_exception(thrown);
+  } catch (const SceneError& e) {
+    return scene_problem(request, e);
+  } catch (const UnsupportedMediaType& e) {
+    return problem(request, http::status::unsupported_media_type, "Unsupported media type",
+                   e.what());
+  } catch (const MalformedBody& e) {
+    return problem(request, http::status::bad_request, "Malformed body", e.what());
+  } catch (const KeyReused& e) {
+    return problem(request, http::status::unprocessable_entity, "Idempotency-Key reused", e.what(),
+                   kIdempotencyKey);
+  } catch (const QueueFull& e) {
+    Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
+    res.set(http::field::retry_after, "5");
+    return res;
+  } catch (const StoreFull& e) {
+    Response res = problem(request, http::status::insufficient_storage, "Storage full", e.what());
+    res.set(http::field::retry_after, "60");
+    return res;
+  } catch (const std::exception& e) {
+    return internal_error(request, e.what());
+  }
 }
 
 }  // namespace
@@ -457,7 +486,8 @@ Routed Api::job_image(const Call& call, const JobRecord& record) {
 }
 
 Api::Accepted Api::accept(const Request& request) const {
-  JobRequest job_request = parse_job_request(request.body(), limits_.files);
+  JobRequest job_request = parse_job_request(
+      job_request_json(request[http::field::content_type], request.body()), limits_.files);
   const bool inline_scene = job_request.scene_name == "inline";
   const CostEstimate cost = estimate_cost(job_request.scene);
   if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
@@ -482,10 +512,8 @@ Response Api::validate(const Request& request) {
     const CostEstimate cost = accept(request).cost;
     return json_answer(request, http::status::ok,
                        validation_json(cost.solve_s, cost.render_s, limits_.max_job_seconds));
-  } catch (const SceneError& e) {
-    return scene_problem(request, e);
-  } catch (const std::exception& e) {
-    return internal_error(request, e.what());
+  } catch (...) {
+    return refusal(request, std::current_exception());
   }
 }
 
@@ -508,21 +536,8 @@ Response Api::submit(const Request& request) {
     res.set(http::field::location, job_url(submitted.record.id));
     if (!submitted.created) res.set("Idempotent-Replayed", "true");
     return res;
-  } catch (const SceneError& e) {
-    return scene_problem(request, e);
-  } catch (const KeyReused& e) {
-    return problem(request, http::status::unprocessable_entity, "Idempotency-Key reused", e.what(),
-                   kIdempotencyKey);
-  } catch (const QueueFull& e) {
-    Response res = problem(request, http::status::too_many_requests, "Queue full", e.what());
-    res.set(http::field::retry_after, "5");
-    return res;
-  } catch (const StoreFull& e) {
-    Response res = problem(request, http::status::insufficient_storage, "Storage full", e.what());
-    res.set(http::field::retry_after, "60");
-    return res;
-  } catch (const std::exception& e) {
-    return internal_error(request, e.what());
+  } catch (...) {
+    return refusal(request, std::current_exception());
   }
 }
 
@@ -557,10 +572,8 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
     }
     return answer(request, http::status::ok, mime_type(r.format),
                   encode_image(image, r.format, r.scene.camera.exposure));
-  } catch (const SceneError& e) {
-    return scene_problem(request, e);
-  } catch (const std::exception& e) {
-    return internal_error(request, e.what());
+  } catch (...) {
+    return refusal(request, std::current_exception());
   }
 }
 

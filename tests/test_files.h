@@ -14,4 +14,7 @@ std::filesystem::path fresh_temp_dir(const std::string& prefix);
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
+// Debian's assimp-testmodels (scripts/test-packages.txt): real model files.
+inline const std::filesystem::path kTestModels = "/usr/share/assimp/models";
+
 }  // namespace bumprad::test

@@ -28,7 +28,7 @@
 namespace bumprad {
 namespace {
 
-const std::filesystem::path kTestModels = "/usr/share/assimp/models";
+using test::kTestModels;
 
 // The built-in Cornell box's quads as an OBJ with its materials in an MTL (Kd, and Ke the
 // emitted radiance: emission / pi).
@@ -500,10 +500,9 @@ TEST(ModelImport, PlacedNormalMapsAreNamedAndConfined) {
     ADD_FAILURE() << "a texture outside the assets was read";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.pointer(), "/objects/1/file");
-    EXPECT_NE(
-        std::string(e.what()).find("texture \"../../confined-outside.exr\" lies outside the "
-                                   "files this model may read"),
-        std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("texture \"../../confined-outside.exr\" lies outside the "
+                                         "files this model may read"),
+              std::string::npos)
         << e.what();
   }
   // From the command line (no sandbox) the same model reads its texture beside it.

@@ -13,6 +13,8 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -358,6 +360,78 @@ TEST(Server, RestartAfterSigkillKeepsFinishedJobs) {
   EXPECT_GE(step, 2);
   EXPECT_EQ(c.get("/v1/jobs/" + running + "/steps/" + std::to_string(step) + ".png").status, 200);
   EXPECT_EQ(json::parse(test::wait_for_job(c, queued, {"done"}))["shots"], 10);
+}
+
+// A multipart/form-data body: each part (name, filename, bytes); no filename, a plain field.
+std::string form(const std::string& boundary,
+                 const std::vector<std::tuple<std::string, std::string, std::string>>& parts) {
+  std::string body;
+  for (const auto& [name, filename, bytes] : parts) {
+    body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + name + "\"";
+    if (!filename.empty()) body += "; filename=\"" + filename + "\"";
+    body += "\r\nContent-Type: application/octet-stream\r\n\r\n" + bytes + "\r\n";
+  }
+  return body + "--" + boundary + "--\r\n";
+}
+
+// Jobs carry their models: a form of scene JSON and the glTF's files (the real test model's
+// .gltf, .bin and texture), a bare .glb; the stored job keeps them, so a restarted server
+// re-textures from disk with nothing in an asset directory.
+TEST(Server, JobsCarryTheirModelsAcrossARestart) {
+  const fs::path data = test::fresh_temp_dir("server");
+  const fs::path box = test::kTestModels / "glTF2/BoxTextured-glTF";
+  const std::string scene = R"({
+    "camera": {"position": [2, 1.5, 3], "look_at": [0, 0, 0], "width": 48, "height": 36},
+    "materials": {"lamp": {"reflectance": 0, "emission": 20}},
+    "objects": [
+      {"type": "model", "file": "BoxTextured.gltf"},
+      {"type": "quad", "material": "lamp",
+       "vertices": [[-1, 2, -1], [-1, 2, 1], [1, 2, 1], [1, 2, -1]]}],
+    "solver": {"max_shots": 30}})";
+  const std::string body =
+      form("bumprad-test-boundary",
+           {{"scene", "", scene},
+            {"file", "BoxTextured.gltf", test::read_file(box / "BoxTextured.gltf")},
+            {"file", "BoxTextured0.bin", test::read_file(box / "BoxTextured0.bin")},
+            {"file", "CesiumLogoFlat.png", test::read_file(box / "CesiumLogoFlat.png")}});
+  const std::string multipart = "multipart/form-data; boundary=bumprad-test-boundary";
+  std::string id, image;
+  {
+    ServerProcess server(data, {"--workers", "1"});
+    HttpClient c = server.client();
+    HttpResponse r = c.request("POST", "/v1/jobs", body, multipart);
+    ASSERT_EQ(r.status, 202) << r.body;
+    id = json::parse(r.body)["id"];
+    ASSERT_EQ(json::parse(test::wait_for_job(c, id, {"done", "failed"}))["state"], "done");
+    image = c.get("/v1/jobs/" + id + "/image").body;
+    EXPECT_EQ(png_size(image), std::make_pair(48, 36));
+    // Missing a file the model names: refused at once, naming it.
+    const std::string without_texture =
+        form("b", {{"scene", "", scene},
+                   {"file", "BoxTextured.gltf", test::read_file(box / "BoxTextured.gltf")},
+                   {"file", "BoxTextured0.bin", test::read_file(box / "BoxTextured0.bin")}});
+    expect_problem(
+        c.request("POST", "/v1/jobs", without_texture, "multipart/form-data; boundary=b"), 422,
+        "texture \"CesiumLogoFlat.png\" is missing", "/scene/objects/0/file");
+    expect_problem(c.request("POST", "/v1/jobs", body, "multipart/form-data; boundary=other"), 400,
+                   "the form's boundary never appears");
+    expect_problem(c.request("POST", "/v1/jobs", "solid box", "text/plain"), 415,
+                   "a job is application/json, model/gltf-binary");
+    // A bare .glb: the scene of that model (no emitter, so black, but solved and rendered).
+    r = c.request(
+        "POST", "/v1/jobs",
+        test::read_file(test::kTestModels / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"),
+        "model/gltf-binary");
+    ASSERT_EQ(r.status, 202) << r.body;
+    const std::string glb = json::parse(r.body)["id"];
+    EXPECT_EQ(json::parse(test::wait_for_job(c, glb, {"done", "failed"}))["state"], "done");
+    server.kill_hard();
+  }
+  ServerProcess server(data, {"--workers", "1"});
+  HttpClient c = server.client();
+  HttpResponse re = c.request("POST", "/v1/jobs/" + id + "/retexture", "{}");
+  ASSERT_EQ(re.status, 200) << re.body;
+  EXPECT_EQ(re.body, image) << "the model came back from the stored job";
 }
 
 // SIGTERM: the running job stops within a shot, is recorded as interrupted, its event
