@@ -18,6 +18,7 @@
 #include "protocol/scene_source.h"
 #include "protocol/solution_file.h"
 #include "protocol/solution_json.h"
+#include "solver/render/back_faces.h"
 #include "solver/solution.h"
 #include "solver/util/image.h"
 
@@ -116,6 +117,8 @@ int run_render(std::span<const std::string_view> args) {
     return true;
   });
   if (tty) std::fputc('\n', stderr);
+  for (const std::string& w : back_face_warnings(scene, *solution.mesh, *solution.rays))
+    std::fprintf(stderr, "bumprad: warning: %s\n", w.c_str());
 
   auto t1 = Clock::now();
   Image image = render(scene, solution);

@@ -61,7 +61,8 @@ JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
   // Each override is checked where the request has it, then merged into the scene, so the
   // stored scene JSON alone reproduces the job.
   try {
-    out.scene = parse_scene(scene, files);
+    out.scene = parse_scene(scene, files, &out.warnings);
+    for (std::string& w : out.warnings) w = prefix + w;  // where the request has the field
   } catch (const SceneError& e) {
     rethrow_under(e, prefix);
   }

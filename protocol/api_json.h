@@ -18,6 +18,7 @@ struct JobRequest {
   Scene scene;
   std::string scene_json;  // the scene with the request's overrides merged in: what is solved
   std::string scene_name;  // for JobRecord::scene_name
+  std::vector<std::string> warnings;  // what its models' importer dropped or assumed
 };
 
 // POST /v1/jobs: {"scene": {..}} or {"builtin": NAME}, optional "bumps" (replacing the

@@ -76,6 +76,7 @@ json job_document(const JobRecord& j) {
     d["estimated_error"] = {{"relative_rms", j.estimated_error},
                             {"standard_error", j.estimated_error_se}};
   if (!j.error.empty()) d["error"] = j.error;
+  if (!j.warnings.empty()) d["warnings"] = j.warnings;
   return d;
 }
 
@@ -123,6 +124,9 @@ JobRecord job_from_json(std::string_view text) {
     j.estimated_error_se = (*e)["standard_error"].number();
   }
   if (auto e = n.get("error")) j.error = e->string();
+  if (auto w = n.get("warnings"))
+    for (std::size_t i = 0, count = w->array(0, 10'000); i < count; ++i)
+      j.warnings.push_back((*w)[i].string());
   return j;
 }
 

@@ -36,6 +36,9 @@ struct JobRecord {
   // and its standard error; 0 when not estimated.
   double estimated_error = 0, estimated_error_se = 0;
   std::string error;  // why the job failed or was interrupted
+  // What the job's models dropped or assumed (from the submission), and what its render
+  // shows amiss (surfaces seen from behind, from the solve): one line each.
+  std::vector<std::string> warnings;
 };
 
 std::string job_url(const std::string& id);

@@ -59,6 +59,12 @@ class Reader {
     visit(*scene_.mRootNode, aiMatrix4x4());
     if (model_.objects.empty()) fail("it has no triangles (points and lines are not rendered)");
     if (dropped_) warn(std::to_string(dropped_) + " degenerate triangles dropped");
+    if (!without_uvs_.empty())
+      warn((without_uvs_.size() == 1 ? "mesh \"" + without_uvs_[0] + "\" has"
+                                     : std::to_string(without_uvs_.size()) + " meshes (\"" +
+                                           without_uvs_[0] + "\", ...) have") +
+           " no texture coordinates: bump functions use a projection along the normals' main "
+           "axes (docs/import.md)");
     if (std::none_of(model_.materials.begin(), model_.materials.end(),
                      [](const Material& m) { return m.emission != Rgb(0); }))
       warn("no material emits light: the image will be black");
@@ -175,8 +181,10 @@ class Reader {
       return m.GetTexture(t, 0, &path) == AI_SUCCESS;
     });
     if (found == types.end()) return nullptr;
-    const std::string name = path.C_Str();
+    std::string name = path.C_Str();
     const std::string what = material + ": texture \"" + name + "\"";
+    // Models written on Windows name textures with backslashes (".\\wall.jpg").
+    std::replace(name.begin(), name.end(), '\\', '/');
     try {
       if (const aiTexture* embedded = scene_.GetEmbeddedTexture(path.C_Str())) {
         if (embedded->mHeight != 0) fail(what + ": uncompressed embedded textures are not read");
@@ -250,9 +258,7 @@ class Reader {
     if (shape.triangles.empty()) return;
     if (shape.uvs.empty()) {
       project_uvs(shape);
-      warn("mesh \"" + name +
-           "\" has no texture coordinates: bump functions use a projection along its normals' "
-           "main axes (docs/import.md)");
+      without_uvs_.push_back(name);
     }
     for (const Vec3& p : shape.positions) grow(p);
     Object o;
@@ -322,6 +328,7 @@ class Reader {
   std::vector<int> material_bump_;  // per material: its normal map in model_.bumps, or -1
   bool any_ = false;
   std::size_t dropped_ = 0;
+  std::vector<std::string> without_uvs_;  // meshes given projected texture coordinates
 };
 
 }  // namespace

@@ -531,6 +531,7 @@ Response Api::submit(const Request& request) {
     r.created = unix_now();
     r.max_shots = job.scene.solver.max_shots;
     r.preview_every = job.scene.solver.preview_every;
+    r.warnings = job.warnings;
     const Store::Submitted submitted = store_.submit(r, job.scene_json, key);
     Response res = json_answer(request, http::status::accepted, job_to_json(submitted.record));
     res.set(http::field::location, job_url(submitted.record.id));

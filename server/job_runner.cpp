@@ -5,6 +5,7 @@
 
 #include "common/stopwatch.h"
 #include "protocol/solution_file.h"
+#include "solver/render/back_faces.h"
 #include "solver/scene/camera.h"
 #include "solver/solution.h"
 #include "solver/util/image.h"
@@ -158,6 +159,8 @@ void JobRunner::Attempt::finish(const Scene& scene, const std::string& scene_jso
   record_.shots = solution.stats.shots;
   record_.unshot_fraction = solution.stats.unshot_fraction;
   record_.seconds_previews += seconds_since(t);
+  for (std::string& w : back_face_warnings(scene, *solution.mesh, *solution.rays))
+    record_.warnings.push_back(std::move(w));
   report(results.png);
   if (stop_.stop_requested()) return stopped(solution.stats);
   record_.state = JobState::Done;

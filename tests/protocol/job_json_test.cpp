@@ -31,7 +31,9 @@ TEST(JobJson, ARecordComesBackAsItWent) {
   r.seconds_previews = 0.4;
   r.estimated_error = 0.018;
   r.estimated_error_se = 0.004;
+  r.warnings = {"/scene/objects/0: \"room.glb\": 3 degenerate triangles dropped"};
   const JobRecord back = job_from_json(job_to_json(r));
+  EXPECT_EQ(back.warnings, r.warnings);
   EXPECT_EQ(job_to_json(back), job_to_json(r));
   EXPECT_EQ(back.state, JobState::Done);
   EXPECT_EQ(back.first_kept_step, 3);
