@@ -58,6 +58,12 @@ class Reader {
     }
     visit(*scene_.mRootNode, aiMatrix4x4());
     if (model_.objects.empty()) fail("it has no triangles (points and lines are not rendered)");
+    // About the materials meshes use: a file's unused ones (Assimp's own default) say nothing.
+    std::vector<bool> used(model_.materials.size());
+    for (const Object& o : model_.objects) used[std::size_t(o.material)] = true;
+    for (std::size_t m = 0; m < material_warnings_.size(); ++m)
+      if (used[m])
+        for (const std::string& w : material_warnings_[m]) warn(w);
     if (dropped_) warn(std::to_string(dropped_) + " degenerate triangles dropped");
     if (!without_uvs_.empty())
       warn((without_uvs_.size() == 1 ? "mesh \"" + without_uvs_[0] + "\" has"
@@ -123,7 +129,9 @@ class Reader {
       colour = glm::min(colour, Rgb(kMaxReflectance));
       out.reflectance = colour * double(1 - metallic);
     }
-    if (clamped) warn(what + ": base colour above 0.99 read as 0.99");
+    material_warnings_.emplace_back();
+    if (clamped)
+      material_warnings_.back().push_back(what + ": base colour above 0.99 read as 0.99");
     if (metallic > 0) {
       out.specular = metallic * (colour.r + colour.g + colour.b) / 3;
       out.shininess =
@@ -139,9 +147,10 @@ class Reader {
                              PixelMeaning::Color)) {
       // Emission is one value a material: the texture's mean, so the power is the file's.
       radiance *= image_mean(*image);
-      warn(what +
-           ": its emissive texture is read as its mean (emission is uniform over a "
-           "surface)");
+      material_warnings_.back().push_back(
+          what +
+          ": its emissive texture is read as its mean (emission is uniform over a "
+          "surface)");
     }
     out.emission = std::numbers::pi * radiance;
     if (!(glm::all(glm::greaterThanEqual(out.emission, Rgb(0)))) ||
@@ -329,6 +338,7 @@ class Reader {
   bool any_ = false;
   std::size_t dropped_ = 0;
   std::vector<std::string> without_uvs_;  // meshes given projected texture coordinates
+  std::vector<std::vector<std::string>> material_warnings_;  // per material read
 };
 
 }  // namespace

@@ -205,6 +205,15 @@ function selectLine(line) {
   $("scene-json").setSelectionRange(start, start + lines[line - 1].length);
 }
 
+// The form's shot budget and step size, onto a job request.
+function withOptions(request) {
+  const shots = parseInt($("shots").value, 10);
+  if (shots > 0) request.solver = { max_shots: shots };
+  const every = parseInt($("preview-every").value, 10);
+  if (every > 0) request.preview_every = every;
+  return request;
+}
+
 function jobRequest() {
   const request = {};
   if ($("use-json").checked) {
@@ -216,11 +225,13 @@ function jobRequest() {
   } else {
     request.builtin = $("scene-select").value;
   }
-  const shots = parseInt($("shots").value, 10);
-  if (shots > 0) request.solver = { max_shots: shots };
-  const every = parseInt($("preview-every").value, 10);
-  if (every > 0) request.preview_every = every;
-  return request;
+  return withOptions(request);
+}
+
+async function submitted(response) {
+  if (response.status !== 202) return showError(problemText(await problemOf(response)));
+  show(await response.json());
+  refreshJobs();
 }
 
 async function submit() {
@@ -231,14 +242,43 @@ async function submit() {
   } catch (e) {
     return showError(e.message);
   }
-  const response = await fetch("/v1/jobs", {
+  await submitted(await fetch("/v1/jobs", {
     method: "POST",
     headers: { "Content-Type": "application/json" },
     body: JSON.stringify(request),
-  });
-  if (response.status !== 202) return showError(problemText(await problemOf(response)));
-  show(await response.json());
-  refreshJobs();
+  }));
+}
+
+// Dropped or chosen files as one job, a multipart form: a scene .json among them is the
+// scene, else the scene of the one model file; every other file goes with it, by name.
+const MODEL_FILE = /\.(glb|gltf|obj|fbx|dae|ply|stl|3ds|blend)$/i;
+async function submitFiles(list) {
+  showError("");
+  const files = [...list];
+  const sceneFile = files.find((f) => /\.json$/i.test(f.name));
+  const model = files.find((f) => MODEL_FILE.test(f.name));
+  if (!sceneFile && !model)
+    return showError("Drop a model (.glb, .gltf, .obj, ...) with its files, or a scene .json with the files it names.");
+  let scene;
+  try {
+    scene = sceneFile ? JSON.parse(await sceneFile.text()) : { objects: [{ type: "model", file: model.name }] };
+  } catch (e) {
+    return showError(`${sceneFile.name} is not JSON: ${e.message}`);
+  }
+  const form = new FormData();
+  form.append("job", JSON.stringify(withOptions({ scene })));
+  for (const f of files) if (f !== sceneFile) form.append("file", f, f.name);
+  await submitted(await fetch("/v1/jobs", { method: "POST", body: form }));
+}
+
+function showWarnings(job) {
+  const warnings = job.warnings || [];
+  $("warnings").replaceChildren(...warnings.map((w) => {
+    const li = document.createElement("li");
+    li.textContent = w;
+    return li;
+  }));
+  $("warnings").hidden = warnings.length === 0;
 }
 
 // ---- A job: live stream, progress, convergence --------------------------------------------
@@ -252,6 +292,7 @@ function show(job) {
   $("retexture-panel").hidden = true;
   $("job-id").textContent = job.id;
   $("state").textContent = job.state;
+  showWarnings(job);
   $("live").hidden = true;
   $("live-wait").hidden = false;
   $("live").src = `/v1/jobs/${job.id}/stream`;
@@ -319,6 +360,7 @@ function follow(job) {
     events.close();
     const final = JSON.parse(e.data);
     $("state").textContent = final.state;
+    showWarnings(final);
     showProgress(final);
     refreshJobs();
     if (final.state === "done") return solved(final);
@@ -454,6 +496,17 @@ $("use-builtin").addEventListener("change", () => useJson(false));
 $("edit-example").addEventListener("click", () => editExample().catch((e) => showError(e.message)));
 $("scene-json").addEventListener("input", checkSceneSoon);
 $("submit").addEventListener("click", submit);
+$("model-files").addEventListener("change", (e) => submitFiles(e.target.files));
+$("drop").addEventListener("dragover", (e) => {
+  e.preventDefault();
+  $("drop").classList.add("over");
+});
+$("drop").addEventListener("dragleave", () => $("drop").classList.remove("over"));
+$("drop").addEventListener("drop", (e) => {
+  e.preventDefault();
+  $("drop").classList.remove("over");
+  submitFiles(e.dataTransfer.files);
+});
 $("refresh-jobs").addEventListener("click", refreshJobs);
 $("curve-axis").addEventListener("change", drawCurve);
 $("bump-name").addEventListener("change", () => fillBump($("bump-name").value));

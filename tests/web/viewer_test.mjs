@@ -1,10 +1,10 @@
 // Drives the web viewer (server/web/) in Debian's headless Chromium through playwright-core:
 // the first screen, the scene editor's checks at the offending line, a submitted job's
 // stream, progress and convergence curve, the job list's downloads, then a dragged slider
-// re-texturing live and a split before/after view. Usage:
+// re-texturing live and a split before/after view, and a model dropped on the page. Usage:
 //   node tests/web/viewer_test.mjs BUMPRAD_BIN WORK_DIR
 import { spawn } from "node:child_process";
-import { mkdirSync, rmSync } from "node:fs";
+import { mkdirSync, readFileSync, rmSync } from "node:fs";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
 
@@ -128,6 +128,27 @@ try {
   await page.dispatchEvent("#split", "input");
   check((await page.$eval("#after", (img) => img.style.clipPath)).includes("30%"),
         "the split slider moves the before/after boundary");
+
+  // A model dropped on the page: the real test glTF (.gltf, .bin, texture) as one job, with
+  // what its importer assumed listed beside it.
+  const box = "/usr/share/assimp/models/glTF2/BoxTextured-glTF";
+  const dropped = ["BoxTextured.gltf", "BoxTextured0.bin", "CesiumLogoFlat.png"].map((name) => ({
+    name, base64: readFileSync(join(box, name)).toString("base64"),
+  }));
+  const before = await page.textContent("#job-id");
+  await page.evaluate((files) => {
+    const transfer = new DataTransfer();
+    for (const f of files)
+      transfer.items.add(new File([Uint8Array.from(atob(f.base64), (c) => c.charCodeAt(0))], f.name));
+    document.getElementById("drop").dispatchEvent(
+      new DragEvent("drop", { dataTransfer: transfer, bubbles: true, cancelable: true }));
+  }, dropped);
+  await page.waitForFunction((old) => document.getElementById("job-id").textContent !== old &&
+                                      document.getElementById("state").textContent === "done",
+                             before, { timeout: 60000 });
+  const warned = await page.textContent("#warnings");
+  check(warned.includes("\"BoxTextured.gltf\": material \"Texture\": base colour above 0.99"),
+        `a dropped glTF with its files solves, its importer's warnings shown (${warned})`);
   await page.screenshot({ path: join(work, "viewer.png"), fullPage: true });
   check(errors.length === 0, `no script errors (${errors.join("; ")})`);
 } catch (e) {
