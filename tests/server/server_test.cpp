@@ -405,9 +405,10 @@ TEST(Server, JobsCarryTheirModelsAcrossARestart) {
     // What the importer assumed comes back with the job, naming the field and the file.
     const json warnings = json::parse(r.body)["warnings"];
     ASSERT_TRUE(warnings.is_array()) << r.body;
-    EXPECT_EQ(warnings[0],
-              "/scene/objects/0: \"BoxTextured.gltf\": material \"Texture\": base colour above 0.99 "
-              "read as 0.99");
+    EXPECT_EQ(
+        warnings[0],
+        "/scene/objects/0: \"BoxTextured.gltf\": material \"Texture\": base colour above 0.99 "
+        "read as 0.99");
     ASSERT_EQ(json::parse(test::wait_for_job(c, id, {"done", "failed"}))["state"], "done");
     image = c.get("/v1/jobs/" + id + "/image").body;
     EXPECT_EQ(png_size(image), std::make_pair(48, 36));
