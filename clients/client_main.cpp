@@ -115,6 +115,8 @@ std::string watch(const HttpClient& client, const std::string& id, const std::st
         final_state = e.name;
         JobRecord job = job_from_json(e.data);
         if (!job.error.empty()) std::fprintf(stderr, "job %s: %s\n", id.c_str(), job.error.c_str());
+        for (const std::string& w : job.warnings)
+          std::fprintf(stderr, "job %s: warning: %s\n", id.c_str(), w.c_str());
         return false;
       }
     }

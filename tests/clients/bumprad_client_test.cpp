@@ -74,6 +74,23 @@ TEST_F(BumpradClient, SubmitWatchImageRetextureCancel) {
   EXPECT_NE(gone.output.find("Not found (404)"), std::string::npos) << gone.output;
 }
 
+// A job's warnings are printed when it ends: a box turned inside out, seen from outside.
+TEST_F(BumpradClient, WatchPrintsTheJobsWarnings) {
+  write("inside-out.json", R"({
+    "camera": {"position": [0, 0, 3], "look_at": [0, 0, 0], "width": 32, "height": 24},
+    "materials": {"m": {"reflectance": 0.5}, "lamp": {"reflectance": 0, "emission": 5}},
+    "objects": [
+      {"type": "box", "name": "crate", "material": "m", "center": [0, 0, 0], "size": [1, 1, 1],
+       "flip_normals": true},
+      {"type": "quad", "material": "lamp",
+       "vertices": [[-1, 2, -1], [1, 2, -1], [1, 2, 1], [-1, 2, 1]]}],
+    "solver": {"max_shots": 5}})");
+  auto r = client("submit " + path("inside-out.json") + " --watch --out " + path("w"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(": warning: object \"crate\": "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("% of the image shows its back faces"), std::string::npos) << r.output;
+}
+
 // On a terminal (a pseudo-terminal from script(1)) --watch redraws one progress line.
 TEST_F(BumpradClient, WatchDrawsAProgressBarOnATerminal) {
   write("scene.json", test::small_scene_json(30));
