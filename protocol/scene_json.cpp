@@ -62,7 +62,14 @@ std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& fi
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
-    n.fail(std::string("cannot read image: ") + e.what());
+    // The decoder names the file it opened: on a server, a path in its asset directory.
+    // Name it as the scene did.
+    std::string why = e.what();
+    const std::string opened = resolved.string();
+    for (std::size_t at = why.find(opened); !opened.empty() && at != std::string::npos;
+         at = why.find(opened, at + path.size()))
+      why.replace(at, opened.size(), path);
+    n.fail("cannot read image: " + why);
   }
 }
 
@@ -601,6 +608,9 @@ Camera parse_camera_changes(const json& changes, const Camera& base, const std::
 }
 
 std::filesystem::path ImageFiles::resolve(const std::string& name) const {
+  // A path stops at a NUL: "good.png\0x" would open good.png.
+  if (name.find('\0') != std::string::npos)
+    throw std::invalid_argument("a file name must not contain NUL characters");
   if (embedded && embedded->contains(name)) return embedded->dir() / name;
   switch (access) {
     case Access::WorkingDirectory:

@@ -330,6 +330,20 @@ TEST(SceneJson, ImageFilesStayInsideTheSandbox) {
   expect_rejected(with_file(outside.string()), field, "inside the asset directory", sandbox);
   expect_rejected(with_file("link.png"), field, "leads outside the asset directory", sandbox);
   expect_rejected(with_file("maps/none.png"), field, "cannot read image", sandbox);
+  // The file as the scene named it, never the server's path to it (#28 item 3).
+  std::ofstream(assets / "maps" / "notimage.png") << "not an image";
+  try {
+    parse_scene(with_file("maps/notimage.png"), sandbox);
+    ADD_FAILURE() << "a text file was read as an image";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot read image: maps/notimage.png"), std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find(assets.string()), std::string::npos) << e.what();
+  }
+  expect_rejected(with_file(std::string("maps/grey.png\0x", 15)), field,
+                  "must not contain NUL characters", sandbox);
+  expect_rejected(with_file(std::string("maps/grey.png\0x", 15)), field,
+                  "must not contain NUL characters");
   // Opening a FIFO blocks until a writer comes: it must never be opened.
   ASSERT_EQ(mkfifo((assets / "pipe.png").c_str(), 0644), 0);
   expect_rejected(with_file("pipe.png"), field, "is not a regular file", sandbox);
