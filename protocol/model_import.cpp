@@ -27,10 +27,6 @@ namespace {
 // Reflectances stay below 1 (the solve would not converge); a white base colour of 1.0 is
 // read as this.
 constexpr double kMaxReflectance = 0.99;
-// Textures are refused from their header beyond this (8192^2): decoded, one takes 12 bytes a
-// pixel.
-constexpr std::size_t kMaxTexturePixels =
-    std::size_t(Limits::kMaxImageSide) * Limits::kMaxImageSide;
 
 Vec3 vec(const aiVector3D& v) {
   return {v.x, v.y, v.z};
@@ -200,7 +196,7 @@ class Reader {
         const std::string format = embedded->achFormatHint[0] ? embedded->achFormatHint : "png";
         return std::make_shared<Image>(decode_image(
             std::string_view(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth),
-            "texture." + format, kMaxTexturePixels, meaning));
+            "texture." + format, Limits::kMaxTexturePixels, meaning));
       }
       const std::filesystem::path file = file_.parent_path() / name;
       if (confine_ && !lies_inside(*confine_, file))
@@ -209,7 +205,7 @@ class Reader {
              "server's asset directory)");
       if (!std::filesystem::exists(file)) fail(what + " is missing");
       if (!std::filesystem::is_regular_file(file)) fail(what + " is not a regular file");
-      return std::make_shared<Image>(read_image(file, kMaxTexturePixels, meaning));
+      return std::make_shared<Image>(read_image(file, Limits::kMaxTexturePixels, meaning));
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& e) {

@@ -56,7 +56,8 @@ std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& fi
     n.fail(e.what());
   }
   try {
-    auto image = std::make_shared<const Image>(read_image(resolved, 0, meaning));
+    auto image =
+        std::make_shared<const Image>(read_image(resolved, Limits::kMaxTexturePixels, meaning));
     if (image->width < 1 || image->height < 1) n.fail("image \"" + path + "\" is empty");
     return image;
   } catch (const SceneError&) {

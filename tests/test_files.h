@@ -14,6 +14,10 @@ std::filesystem::path fresh_temp_dir(const std::string& prefix);
 std::string read_file(const std::filesystem::path& path);
 void write_file(const std::filesystem::path& path, const std::string& bytes);
 
+// A 68-byte PNG whose header says 20000 x 20000 pixels (an image bomb): readers must refuse
+// it from the header, before decoding.
+std::string png_bomb();
+
 // Debian's assimp-testmodels (scripts/test-packages.txt): real model files.
 inline const std::filesystem::path kTestModels = "/usr/share/assimp/models";
 

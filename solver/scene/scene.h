@@ -22,6 +22,9 @@ struct Limits {
   static constexpr int kMinHemicube = 16;
   static constexpr int kMaxHemicube = 1024;
   static constexpr int kMaxImageSide = 8192;
+  // An image a scene reads (texture, height or normal map), checked from its file's header
+  // before it is decoded: 8192^2, 805 MB as linear floats.
+  static constexpr std::size_t kMaxTexturePixels = std::size_t(kMaxImageSide) * kMaxImageSide;
   static constexpr int kMaxShots = 1'000'000;
   static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
   static constexpr int kMaxAntialias = 8;

@@ -379,12 +379,7 @@ TEST(ModelImport, MissingAndOversizedTexturesAreRefusedByName) {
       << error_of(box_with_texture(missing, ""));
   // A 68-byte PNG whose header says 20000 x 20000: refused before anything is decoded.
   const auto bomb = test::fresh_temp_dir("import-texture-bomb");
-  const std::string header(
-      "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x4e\x20\x00\x00\x4e"
-      "\x20\x08\x02\x00\x00\x00\x6c\x12\xd1\x6e\x00\x00\x00\x0b\x49\x44\x41\x54\x78\x9c\x63\x60\x80"
-      "\x01\x00\x00\x0a\x00\x01\x7f\x80\x74\x5e\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82",
-      68);
-  const std::string e = error_of(box_with_texture(bomb, header));
+  const std::string e = error_of(box_with_texture(bomb, test::png_bomb()));
   EXPECT_NE(e.find("texture \"CesiumLogoFlat.png\": 20000 x 20000 pixels, over the limit of "
                    "67108864"),
             std::string::npos)

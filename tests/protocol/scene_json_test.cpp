@@ -397,6 +397,11 @@ TEST(SceneJson, ImageBumps) {
   EXPECT_NEAR(s.bumps[0].image->at(3, 3).r, srgb_encode(0.25), 0.5 / 255);
   d["bumps"]["map"]["file"] = "/no/such/height.png";
   expect_rejected(d, "/bumps/map/file", "cannot read image");
+  // An image bomb is refused from its header, before decoding (#28 item 1).
+  const std::string bomb = ::testing::TempDir() + "bomb.png";
+  test::write_file(bomb, test::png_bomb());
+  d["bumps"]["map"]["file"] = bomb;
+  expect_rejected(d, "/bumps/map/file", "20000 x 20000 pixels, over the limit of 67108864");
   d["bumps"]["map"].erase("file");
   expect_rejected(d, "/bumps/map/file", "is required");
 }
