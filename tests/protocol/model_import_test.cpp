@@ -67,9 +67,9 @@ double area_of(const Mesh& mesh, const std::vector<Material>& materials, const s
 // Imported, the box has the built-in's surfaces (to float precision, and the triangulation of
 // its slightly bent walls), materials and emission, and
 // rendered with the same camera and solver settings its image is within 2 % of the
-// built-in's (relative RMS over the pixels that show no emitter). Measured 1.67 %: the meshes
-// differ (two triangles a quad, radiosity interpolated across each, against quad grids),
-// which is what is left between an imported model and a scene written for bumprad.
+// built-in's (relative RMS over the pixels that show no emitter). Measured 1.67 %, mostly the
+// shadow rays' noise in the penumbrae, drawn differently over different meshes
+// (docs/import.md, "Measured"), not the triangles themselves.
 TEST(ModelImport, TheCornellBoxAsObjRendersLikeTheBuiltIn) {
   const auto dir = test::fresh_temp_dir("import-cornell");
   Scene builtin = load_scene("builtin:cornell");
