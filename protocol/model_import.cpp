@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <numbers>
 
@@ -51,6 +52,7 @@ class Reader {
       fallback.name = "default";
       model_.materials.push_back(fallback);
       material_bump_.push_back(-1);
+      material_two_sided_.push_back(false);
     }
     visit(*scene_.mRootNode, aiMatrix4x4());
     if (model_.objects.empty()) fail("it has no triangles (points and lines are not rendered)");
@@ -155,6 +157,9 @@ class Reader {
 
     // glTF's normalTexture (with its scale), OBJ's norm; OBJ's bump/map_Bump is read as a
     // normal map too (with its -bm), as Blender reads it: exporters write normal maps there.
+    int two_sided = 0;
+    m.Get(AI_MATKEY_TWOSIDED, two_sided);
+    material_two_sided_.push_back(two_sided != 0);
     material_bump_.push_back(-1);
     std::vector<aiTextureType> normals{aiTextureType_NORMALS};
     if (obj_) normals.push_back(aiTextureType_HEIGHT);
@@ -265,14 +270,57 @@ class Reader {
       project_uvs(shape);
       without_uvs_.push_back(name);
     }
+    const std::size_t material =
+        std::min<std::size_t>(mesh.mMaterialIndex, model_.materials.size() - 1);
+    if (material_two_sided_[material] && has_open_edges(shape)) add_back_faces(shape);
     for (const Vec3& p : shape.positions) grow(p);
     Object o;
     o.name = name;
-    o.material =
-        int(std::min<unsigned>(mesh.mMaterialIndex, unsigned(model_.materials.size() - 1)));
+    o.material = int(material);
     o.bump = material_bump_[std::size_t(o.material)];
     o.shape = std::move(shape);
     model_.objects.push_back(std::move(o));
+  }
+
+  // Whether some edge (between two positions) belongs to one triangle only: an open sheet
+  // (a leaf, a curtain, a plane) whose back can be seen. A closed mesh's cannot, from outside.
+  static bool has_open_edges(const TriangleMeshShape& m) {
+    auto key = [](const Vec3& p) { return std::array<double, 3>{p.x, p.y, p.z}; };
+    std::map<std::pair<std::array<double, 3>, std::array<double, 3>>, int> uses;
+    for (const auto& t : m.triangles)
+      for (int e = 0; e < 3; ++e) {
+        auto a = key(m.positions[t[std::size_t(e)]]), b = key(m.positions[t[(e + 1) % 3]]);
+        if (b < a) std::swap(a, b);
+        ++uses[{a, b}];
+      }
+    return std::any_of(uses.begin(), uses.end(), [](const auto& u) { return u.second == 1; });
+  }
+
+  // glTF's doubleSided on an open sheet: its back as a second sheet facing the other way,
+  // a ten-thousandth of the mesh's extent behind, so each side receives and shows light (a
+  // surface in bumprad is lit on its front only; coincident sheets would fight over hits).
+  static void add_back_faces(TriangleMeshShape& m) {
+    Vec3 lo = m.positions.front(), hi = lo;
+    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const double offset = 1e-4 * glm::length(hi - lo);
+    std::vector<Vec3> facing(m.positions.size(), Vec3(0));
+    for (const auto& t : m.triangles) {
+      const Vec3 n =
+          glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]);
+      for (std::uint32_t v : t) facing[v] += n;
+    }
+    const auto first = std::uint32_t(m.positions.size());
+    for (std::size_t v = 0; v < facing.size(); ++v) {
+      const Vec3 n = glm::length(facing[v]) > 0 ? glm::normalize(facing[v]) : Vec3(0);
+      m.positions.push_back(m.positions[v] - offset * n);
+      if (!m.normals.empty()) m.normals.push_back(-m.normals[v]);
+      if (!m.uvs.empty()) m.uvs.push_back(m.uvs[v]);
+    }
+    const std::size_t count = m.triangles.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      const auto t = m.triangles[i];
+      m.triangles.push_back({first + t[0], first + t[2], first + t[1]});
+    }
   }
 
   // (u, v) for a mesh without them: each vertex projected along the main axis of its normal
@@ -330,7 +378,8 @@ class Reader {
   const std::optional<std::filesystem::path>& confine_;
   const bool obj_;
   ImportedModel model_;
-  std::vector<int> material_bump_;  // per material: its normal map in model_.bumps, or -1
+  std::vector<int> material_bump_;        // per material: its normal map in model_.bumps, or -1
+  std::vector<bool> material_two_sided_;  // per material: glTF's doubleSided
   bool any_ = false;
   std::size_t dropped_ = 0;
   std::vector<std::string> without_uvs_;  // meshes given projected texture coordinates

@@ -185,6 +185,34 @@ TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
   EXPECT_GT(scene.camera.position.z, 0);
 }
 
+// glTF's doubleSided: an open sheet gets its back as a second sheet facing the other way; a
+// closed mesh (the real test box, doubleSided too) is left alone, its back never seen.
+TEST(ModelImport, DoubleSidedSheetsGetABackAndClosedMeshesDoNot) {
+  const auto dir = test::fresh_temp_dir("import-double-sided");
+  const ImportedModel sheet = import_model(mirrored_quad_gltf(
+      dir,
+      R"({"name": "leaf", "doubleSided": true, "pbrMetallicRoughness": {"metallicFactor": 0}})"));
+  const auto& m = std::get<TriangleMeshShape>(sheet.objects[0].shape);
+  ASSERT_EQ(m.triangles.size(), 4u);
+  Scene scene;
+  scene.materials = sheet.materials;
+  scene.objects = sheet.objects;
+  int front = 0, back = 0;
+  for (const Element& e : build_mesh(scene).elements) {
+    front += e.normal.z > 0.999;
+    back += e.normal.z < -0.999;
+  }
+  EXPECT_GT(front, 0);
+  EXPECT_EQ(back, front);
+  const ImportedModel one_sided = import_model(mirrored_quad_gltf(dir));
+  EXPECT_EQ(std::get<TriangleMeshShape>(one_sided.objects[0].shape).triangles.size(), 2u);
+  const ImportedModel box = import_model(kTestModels / "glTF2/BoxTexcoords-glTF/boxTexcoords.gltf");
+  std::size_t triangles = 0;
+  for (const Object& o : box.objects)
+    triangles += std::get<TriangleMeshShape>(o.shape).triangles.size();
+  EXPECT_EQ(triangles, 12u);
+}
+
 void write_uniform_exr(const std::filesystem::path& file, const Rgb& value) {
   Image image(4, 4);
   for (int y = 0; y < 4; ++y)
