@@ -48,6 +48,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
+  solver.shine(scene.lights, *out.rays);
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
   const auto step = [&](const Snapshot& s) {
@@ -190,7 +191,7 @@ Image render_solution(const Scene& scene, const Solution& solution, std::span<co
     return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail, stop);
   std::vector<Rgb> indirect(radiosity.begin(), radiosity.end());
   for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
-  const Lights lights(*solution.mesh, scene.materials);
+  const Lights lights(*solution.mesh, scene.materials, scene.lights);
   detail.lights = &lights;
   std::vector<Rgb> reflected(radiosity.begin(), radiosity.end());
   for (std::size_t i = 0; i < reflected.size(); ++i)

@@ -8,6 +8,7 @@
 #include "common/stopwatch.h"
 #include "solver/radiosity/perturbed_map.h"
 #include "solver/scene/geometry.h"
+#include "solver/util/parallel.h"
 
 namespace bumprad {
 
@@ -27,6 +28,35 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
     for (std::uint32_t k = 0; k < patch.count; ++k) elements[k] = patch.first + k;
     planar_patch_.push_back(coplanar(mesh, elements, kNearlyFlat));
   }
+}
+
+void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RayScene& rays) {
+  if (lights.empty()) return;
+  const double epsilon = ray_epsilon(mesh_);
+  std::vector<Arrival> arrivals(mesh_.elements.size());
+  for (std::uint32_t i = 0; i < arrivals.size(); ++i) arrivals[i] = {i, Rgb(0), Rgb(0)};
+  Rgb emitted(0), escaped(0);
+  for (const PunctualLight& l : lights) {
+    std::vector<Rgb> incident(mesh_.elements.size());
+    parallel_for(int(mesh_.elements.size()), [&](int i) {
+      const Element& e = mesh_.elements[std::size_t(i)];
+      Rgb irradiance(0);
+      for (const Vec3& q : quarter_points(mesh_, e))
+        irradiance += punctual_irradiance(l, q, e.normal, q + e.normal * epsilon, rays) / 4.0;
+      incident[std::size_t(i)] = irradiance * e.area;
+    });
+    Rgb received(0);
+    for (std::size_t i = 0; i < incident.size(); ++i) {
+      arrivals[i].incident += incident[i];
+      received += incident[i];
+    }
+    // A directional light sends what the scene intercepts. A point's power that meets no
+    // element's front escapes (never below zero: the quarter points are a quadrature).
+    const Rgb sent = l.kind == PunctualLight::Kind::Directional ? received : punctual_power(l);
+    emitted += glm::max(sent, received);
+    escaped += glm::max(Rgb(0), sent - received);
+  }
+  residuals_.shine(arrivals, emitted, escaped);
 }
 
 void ProgressiveSolver::attach_map(PerturbedMap* map) {

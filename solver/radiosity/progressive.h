@@ -18,6 +18,7 @@
 #include "solver/radiosity/solve_stats.h"
 #include "solver/radiosity/specular_transfer.h"
 #include "solver/scene/mesh.h"
+#include "solver/scene/punctual_light.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/scene/scene.h"
 #include "solver/util/random.h"
@@ -35,6 +36,10 @@ class ProgressiveSolver {
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                     const SolverSettings& settings, const RayScene* rays = nullptr,
                     std::span<const double> open = {});
+
+  // The punctual lights' light, before any patch shoots: per element the mean of
+  // punctual_irradiance() over its four quarter points.
+  void shine(std::span<const PunctualLight> lights, const RayScene& rays);
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
   void attach_map(PerturbedMap* map);

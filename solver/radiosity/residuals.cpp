@@ -118,6 +118,20 @@ void Residuals::deliver(std::uint32_t source, std::span<const Arrival> arrivals,
   }
 }
 
+void Residuals::shine(std::span<const Arrival> arrivals, const Rgb& emitted, const Rgb& escaped) {
+  emitted_ += emitted;
+  escaped_ += escaped;
+  for (const Arrival& a : arrivals) {
+    const Element& e = mesh_.elements[a.element];
+    const Rgb diffuse = reflectance_[a.element] * a.incident;
+    radiosity_[a.element] += diffuse / e.area;
+    unshot_[a.element] += diffuse / e.area;
+    direct_[a.element] += diffuse / e.area;
+    patch_unshot_power_[e.patch] += channel_sum(diffuse);
+    absorbed_ += a.incident - diffuse;
+  }
+}
+
 void Residuals::receive(std::uint32_t i, const Rgb& incident, std::uint32_t source,
                         const Rgb& emission) {
   const Element& e = mesh_.elements[i];

@@ -27,8 +27,9 @@ double power_heuristic(double a, double b) {
 
 }  // namespace
 
-Lights::Lights(const Mesh& mesh, std::span<const Material> materials)
-    : mesh_(mesh), epsilon_(ray_epsilon(mesh)) {
+Lights::Lights(const Mesh& mesh, std::span<const Material> materials,
+               std::span<const PunctualLight> punctual)
+    : mesh_(mesh), punctual_(punctual.begin(), punctual.end()), epsilon_(ray_epsilon(mesh)) {
   const std::vector<bool> mirror = planar_mirrors(mesh, materials);
   std::vector<bool> listed(mesh.surface_count, false);
   for (const Element& e : mesh.elements)
@@ -169,6 +170,18 @@ bool Lights::visible_through(const Mirror& mirror, const Vec3& from, const Vec3&
 
 Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
                        Random& random) const {
+  return punctual_direct(from, normal, from, rays) + area_next_event(from, normal, rays, random);
+}
+
+Rgb Lights::punctual_direct(const Vec3& x, const Vec3& normal, const Vec3& from,
+                            const RayScene& rays) const {
+  Rgb sum(0);
+  for (const PunctualLight& l : punctual_) sum += punctual_irradiance(l, x, normal, from, rays);
+  return sum;
+}
+
+Rgb Lights::area_next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
+                            Random& random) const {
   if (emitters_.empty()) return Rgb(0);
   // One emitter point for the emitter and every mirror's image of it: each term below is
   // an unbiased estimate of its own integral, so their sum is one of the total.
@@ -311,11 +324,17 @@ bool Lights::visible(const Seen& s, const Vec3& from, const Vec3& geometric, con
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
                    int shadow_rays, Random& random) const {
+  const Vec3 from = x + geometric * epsilon_;
+  return punctual_direct(x, normal, from, rays) +
+         area_direct(x, normal, from, geometric, rays, shadow_rays, random);
+}
+
+Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, const Vec3& geometric,
+                        const RayScene& rays, int shadow_rays, Random& random) const {
   thread_local std::vector<Seen> seen;
   const double total = seen_from(x, normal, seen);
   if (seen.empty()) return Rgb(0);
 
-  const Vec3 from = x + geometric * epsilon_;
   auto arriving = [&](const Seen& s) {
     return s.group->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));
   };

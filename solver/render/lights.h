@@ -14,6 +14,7 @@
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/phong_lobe.h"
+#include "solver/scene/punctual_light.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/scene/scene.h"
 #include "solver/util/random.h"
@@ -22,8 +23,9 @@ namespace bumprad {
 
 class Lights {
  public:
-  Lights(const Mesh& mesh, std::span<const Material> materials);
-  bool empty() const { return emitters_.empty(); }
+  Lights(const Mesh& mesh, std::span<const Material> materials,
+         std::span<const PunctualLight> punctual = {});
+  bool empty() const { return emitters_.empty() && punctual_.empty(); }
 
   struct Sample {
     std::uint32_t element;
@@ -34,7 +36,8 @@ class Lights {
   // An emitter chosen by its power (area times E's channel sum), a point on it uniformly.
   Sample sample(Random& random) const;
 
-  // The direct irradiance at `x` from the emitters' own emission, in radiosity units
+  // The direct irradiance at `x` from the punctual lights (exact, one shadow ray each) and
+  // the emitters' own emission, in radiosity units
   // (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's reflectance),
   // plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact (Lambert, clipped
   // to the plane of `normal`, which may be a perturbed N'); V, the visible share (through
@@ -45,7 +48,8 @@ class Lights {
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              int shadow_rays, Random& random) const;
 
-  // Next-event estimation for the path tracer, unbiased: a point y on an emitter chosen by
+  // Next-event estimation for the path tracer, unbiased: each punctual light's irradiance
+  // (deterministic), plus a point y on an emitter chosen by
   // power, E cos cos' / (pi r^2 pdf) if y is visible from `from`, plus the same through each
   // planar mirror (k_s times, to y's image): radiosity units, before the receiver's
   // reflectance. A path that leaves a diffuse surface and meets an emitter next, or after
@@ -70,6 +74,12 @@ class Lights {
   bool planar_mirror(std::uint32_t surface) const;
 
  private:
+  Rgb punctual_direct(const Vec3& x, const Vec3& normal, const Vec3& from,
+                      const RayScene& rays) const;
+  Rgb area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, const Vec3& geometric,
+                  const RayScene& rays, int shadow_rays, Random& random) const;
+  Rgb area_next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
+                      Random& random) const;
   struct Emitter {
     std::uint32_t element;
     Rgb emission;
@@ -123,6 +133,7 @@ class Lights {
                        const RayScene& rays) const;
 
   const Mesh& mesh_;
+  std::vector<PunctualLight> punctual_;
   std::vector<Emitter> emitters_;
   std::vector<Group> groups_;
   std::vector<Mirror> mirrors_;

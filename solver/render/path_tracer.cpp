@@ -29,7 +29,7 @@ class PathTracer {
       : scene_(scene),
         mesh_(mesh),
         rays_(rays),
-        lights_(mesh, scene.materials),
+        lights_(mesh, scene.materials, scene.lights),
         planar_mirror_(planar_mirrors(mesh, scene.materials)),
         epsilon_(ray_epsilon(mesh)) {}
 

@@ -142,6 +142,21 @@ struct BumpFunction {
   double strength = 1;       // normal map: its x and y scaled by this (glTF's normalTexture.scale)
 };
 
+// A light with no area (glTF's KHR_lights_punctual): a point radiating `intensity` (W/sr) in
+// every direction, a spot doing so within a cone about `direction` (full inside
+// inner_cone_deg, falling to none at outer_cone_deg, as glTF defines it), or a directional
+// light (the sun) whose parallel rays travel along `direction` with `intensity` read as the
+// irradiance (W/m^2) of a surface facing them. No camera ray ever meets one.
+struct PunctualLight {
+  enum class Kind { Point, Spot, Directional };
+  std::string name;
+  Kind kind = Kind::Point;
+  Vec3 position{0};
+  Vec3 direction{0, -1, 0};  // spot and directional; unit length
+  Rgb intensity{0};
+  double inner_cone_deg = 0, outer_cone_deg = 45;  // spot
+};
+
 struct Object {
   std::string name;
   Shape shape;
@@ -213,6 +228,7 @@ struct Scene {
   std::vector<Material> materials;
   std::vector<Object> objects;
   std::vector<BumpFunction> bumps;
+  std::vector<PunctualLight> lights;
   SolverSettings solver;
 };
 
