@@ -69,9 +69,11 @@ class Reader {
                                            without_uvs_[0] + "\", ...) have") +
            " no texture coordinates: bump functions use a projection along the normals' main "
            "axes (docs/import.md)");
-    if (std::none_of(model_.materials.begin(), model_.materials.end(),
+    read_lights();
+    if (model_.lights.empty() &&
+        std::none_of(model_.materials.begin(), model_.materials.end(),
                      [](const Material& m) { return m.emission != Rgb(0); }))
-      warn("no material emits light: the image will be black");
+      warn("no material emits light and it has no lights: the image will be black");
     read_camera();
     return std::move(model_);
   }
@@ -350,13 +352,53 @@ class Reader {
     any_ = true;
   }
 
+  // The node's transform to the world.
+  aiMatrix4x4 world_of(const aiString& name) const {
+    aiMatrix4x4 to_world;
+    for (const aiNode* n = scene_.mRootNode->FindNode(name); n; n = n->mParent)
+      to_world = n->mTransformation * to_world;
+    return to_world;
+  }
+
+  // KHR_lights_punctual through Assimp (colour times intensity), placed by their nodes.
+  // Candela (point, spot) and lux (sun) become W/sr and W/m^2 at 683 lm/W, the conversion
+  // Blender's glTF importer makes, so Cycles renders the same file alike.
+  void read_lights() {
+    constexpr double kLumensPerWatt = 683;
+    for (unsigned i = 0; i < scene_.mNumLights; ++i) {
+      const aiLight& a = *scene_.mLights[i];
+      PunctualLight l;
+      l.name = a.mName.C_Str();
+      if (a.mType == aiLightSource_POINT) {
+        l.kind = PunctualLight::Kind::Point;
+      } else if (a.mType == aiLightSource_SPOT) {
+        l.kind = PunctualLight::Kind::Spot;
+        l.inner_cone_deg = double(a.mAngleInnerCone) * 180 / std::numbers::pi;
+        l.outer_cone_deg = double(a.mAngleOuterCone) * 180 / std::numbers::pi;
+      } else if (a.mType == aiLightSource_DIRECTIONAL) {
+        l.kind = PunctualLight::Kind::Directional;
+      } else {
+        warn("light \"" + l.name + "\": only point, spot and directional lights are read");
+        continue;
+      }
+      const aiMatrix4x4 to_world = world_of(a.mName);
+      l.position = vec(to_world * a.mPosition);
+      const Vec3 d = vec(aiMatrix3x3(to_world) * a.mDirection);
+      l.direction = glm::length(d) > 0 ? glm::normalize(d) : Vec3(0, 0, -1);
+      l.intensity = Rgb(a.mColorDiffuse.r, a.mColorDiffuse.g, a.mColorDiffuse.b) / kLumensPerWatt;
+      if (!finite_within_limit(l.position) ||
+          !(glm::all(glm::greaterThanEqual(l.intensity, Rgb(0)))) ||
+          !(l.kind != PunctualLight::Kind::Spot || l.outer_cone_deg > l.inner_cone_deg))
+        fail("light \"" + l.name + "\" is not usable (position, intensity or cone)");
+      model_.lights.push_back(l);
+    }
+  }
+
   // The first camera, placed by its node; Assimp gives half the horizontal field of view.
   void read_camera() {
     if (scene_.mNumCameras == 0) return;
     const aiCamera& cam = *scene_.mCameras[0];
-    const aiNode* node = scene_.mRootNode->FindNode(cam.mName);
-    aiMatrix4x4 to_world;
-    for (const aiNode* n = node; n; n = n->mParent) to_world = n->mTransformation * to_world;
+    const aiMatrix4x4 to_world = world_of(cam.mName);
     Camera c;
     c.position = vec(to_world * cam.mPosition);
     c.look_at = vec(to_world * (cam.mPosition + cam.mLookAt));
@@ -428,6 +470,10 @@ void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
       if (glm::length(normals * n) > 0) n = glm::normalize(normals * n);
     if (mirrored)
       for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  }
+  for (PunctualLight& l : model.lights) {
+    l.position = point(l.position);
+    if (glm::length(linear * l.direction) > 0) l.direction = glm::normalize(linear * l.direction);
   }
   if (model.camera) {
     model.camera->position = point(model.camera->position);

@@ -25,9 +25,10 @@ class ModelError : public std::runtime_error {
 
 struct ImportedModel {
   std::vector<Material> materials;
-  std::vector<BumpFunction> bumps;  // the materials' normal maps, named "<material>/normal"
-  std::vector<Object> objects;      // triangle meshes; indices into `materials` and `bumps`
-  std::optional<Camera> camera;     // the file's first camera
+  std::vector<BumpFunction> bumps;    // the materials' normal maps, named "<material>/normal"
+  std::vector<Object> objects;        // triangle meshes; indices into `materials` and `bumps`
+  std::vector<PunctualLight> lights;  // KHR_lights_punctual (and other formats' lights)
+  std::optional<Camera> camera;       // the file's first camera
   Vec3 bounds_min{0}, bounds_max{0};
   std::vector<std::string> warnings;  // what was dropped or assumed, naming the mesh
 };

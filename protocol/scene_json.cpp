@@ -201,6 +201,42 @@ BumpFunction parse_bump(const Node& n, const std::string& name, const ImageFiles
   return b;
 }
 
+// A punctual light: {"type": "point" | "spot" | "directional", "position", "direction",
+// "intensity", "inner_cone_deg", "outer_cone_deg"}; docs/scene-format.md.
+PunctualLight parse_light(const Node& n, std::size_t index) {
+  PunctualLight l;
+  const std::string type = n["type"].string();
+  if (type == "point") {
+    n.allow_only({"type", "name", "position", "intensity"}, "point light");
+  } else if (type == "spot") {
+    l.kind = PunctualLight::Kind::Spot;
+    n.allow_only(
+        {"type", "name", "position", "direction", "intensity", "inner_cone_deg", "outer_cone_deg"},
+        "spot light");
+  } else if (type == "directional") {
+    l.kind = PunctualLight::Kind::Directional;
+    n.allow_only({"type", "name", "direction", "intensity"}, "directional light");
+  } else {
+    n["type"].fail("unknown light type \"" + type + "\" (expected point, spot or directional)");
+  }
+  l.name = n.get("name") ? n["name"].string() : "light" + std::to_string(index);
+  if (l.kind != PunctualLight::Kind::Directional) l.position = n["position"].vec3();
+  if (l.kind != PunctualLight::Kind::Point) {
+    const Node d = n["direction"];
+    const Vec3 v = d.vec3();
+    if (!(glm::length(v) > 0)) d.fail("must not be zero");
+    l.direction = glm::normalize(v);
+  }
+  l.intensity = n["intensity"].rgb(0, kHuge, false);
+  if (auto v = n.get("inner_cone_deg")) l.inner_cone_deg = v->in_range(0, 90, true);
+  if (auto v = n.get("outer_cone_deg")) l.outer_cone_deg = v->in_range(0, 90, false);
+  if (l.kind == PunctualLight::Kind::Spot && !(l.outer_cone_deg > l.inner_cone_deg))
+    n[n.get("outer_cone_deg") ? "outer_cone_deg" : "inner_cone_deg"].fail(
+        "the outer cone must be wider than the inner one (inner " + describe(l.inner_cone_deg) +
+        ", outer " + describe(l.outer_cone_deg) + " degrees)");
+  return l;
+}
+
 MeshDensity parse_density(const Node& n) {
   n.allow_only({"element_size", "elements", "patch_elements"});
   MeshDensity d;
@@ -513,6 +549,10 @@ std::optional<Camera> add_model(const Node& n, std::size_t index,
     b.name = prefix + b.name;
     scene.bumps.push_back(std::move(b));
   }
+  for (PunctualLight& l : model.lights) {
+    l.name = prefix + l.name;
+    scene.lights.push_back(std::move(l));
+  }
   for (Object& o : model.objects) {
     o.name = prefix + o.name;
     o.material = ids[std::size_t(o.material)];
@@ -536,8 +576,8 @@ std::optional<Camera> add_model(const Node& n, std::size_t index,
 Scene parse_scene(const json& document, const ImageFiles& outside,
                   std::vector<std::string>* warnings) {
   Node root(document, "");
-  root.allow_only(
-      {"version", "description", "files", "camera", "materials", "bumps", "objects", "solver"});
+  root.allow_only({"version", "description", "files", "camera", "materials", "bumps", "objects",
+                   "lights", "solver"});
   // The scene's own files, where its names look first, for as long as this parse.
   std::optional<EmbeddedFiles> embedded;
   ImageFiles files = outside;
@@ -579,7 +619,15 @@ Scene parse_scene(const json& document, const ImageFiles& outside,
     from.resize(scene.objects.size(), i);
   }
 
+  if (auto v = root.get("lights")) {
+    const std::size_t count = v->array(0, 1000);
+    for (std::size_t i = 0; i < count; ++i) scene.lights.push_back(parse_light((*v)[i], i));
+  }
+
   if (auto v = root.get("solver")) apply_solver_settings(v->value(), scene.solver, v->pointer());
+  // A point has no area for a hemi-cube or the map to see: its light is exact per pixel.
+  if (!scene.lights.empty() && scene.solver.direct_light != DirectLight::Exact)
+    root["lights"].fail("punctual lights need \"direct_light\": \"exact\" (the default)");
 
   // Refuse oversized meshes before any memory is spent on them.
   double size = default_element_size(scene);

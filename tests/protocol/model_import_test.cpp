@@ -116,14 +116,16 @@ TEST(ModelImport, TheCornellBoxAsObjRendersLikeTheBuiltIn) {
 
 // Writes a glTF whose one quad (z = 0, facing +z, uvs over [0,1]^2) sits under a node that
 // moves it by (5, 0, 0) and mirrors x: the quad lands at x in [4, 5] and still faces +z.
-// `material` replaces its one material; `extra` adds top-level keys (textures, images).
+// `material` replaces its one material; `extra` adds top-level keys (textures, images);
+// `holder` adds keys to the moving node (a light's extension).
 std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir,
                                          const std::string& material =
                                              R"({"name": "glow", "pbrMetallicRoughness":
                                                  {"baseColorFactor": [0.5, 0.25, 1, 1],
                                                   "metallicFactor": 0},
                                                  "emissiveFactor": [1, 0.5, 0.25]})",
-                                         const std::string& extra = "") {
+                                         const std::string& extra = "",
+                                         const std::string& holder = "") {
   const float positions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
   const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
@@ -137,7 +139,8 @@ std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir,
   std::ofstream(dir / "quad.gltf") << R"({
   "asset": {"version": "2.0"},
   "scene": 0, "scenes": [{"nodes": [0]}],
-  "nodes": [{"name": "holder", "translation": [5, 0, 0], "children": [1]},
+  "nodes": [{"name": "holder", "translation": [5, 0, 0], "children": [1])" +
+                                          holder + R"(},
             {"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
   "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
                                               "indices": 2, "material": 0}]}],
@@ -211,6 +214,33 @@ TEST(ModelImport, DoubleSidedSheetsGetABackAndClosedMeshesDoNot) {
   for (const Object& o : box.objects)
     triangles += std::get<TriangleMeshShape>(o.shape).triangles.size();
   EXPECT_EQ(triangles, 12u);
+}
+
+// KHR_lights_punctual: a point light on the node that moves the quad (so at (5, 0, 0)),
+// 683 cd -> 1 W/sr; a spot's cone angles.
+TEST(ModelImport, PunctualLightsArePlacedAndConverted) {
+  const auto dir = test::fresh_temp_dir("import-lights");
+  const ImportedModel model = import_model(
+      mirrored_quad_gltf(dir, R"({"name": "plain", "pbrMetallicRoughness": {"metallicFactor": 0}})",
+                         R"(
+  "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [
+    {"name": "bulb", "type": "point", "color": [1, 0.5, 0.25], "intensity": 683}]}},)",
+                         R"(, "extensions": {"KHR_lights_punctual": {"light": 0}})"));
+  ASSERT_EQ(model.lights.size(), 1u);
+  const PunctualLight& l = model.lights[0];
+  EXPECT_EQ(l.kind, PunctualLight::Kind::Point);
+  EXPECT_NEAR(glm::length(l.position - Vec3(5, 0, 0)), 0, 1e-9);
+  EXPECT_NEAR(glm::length(l.intensity - Rgb(1, 0.5, 0.25)), 0, 1e-6);
+  EXPECT_TRUE(std::none_of(model.warnings.begin(), model.warnings.end(), [](const std::string& w) {
+    return w.find("no material emits light") != std::string::npos;
+  }));
+  // Placed in a scene, the light moves with the model and lights the render.
+  const nlohmann::json doc = {
+      {"objects", {{{"type", "model"}, {"name", "lamp"}, {"file", (dir / "quad.gltf").string()}}}}};
+  const Scene scene = parse_scene(doc);
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_EQ(scene.lights[0].name, "lamp/holder");  // Assimp names a light by its node
 }
 
 void write_uniform_exr(const std::filesystem::path& file, const Rgb& value) {

@@ -406,6 +406,40 @@ TEST(SceneJson, ImageBumps) {
   expect_rejected(d, "/bumps/map/file", "is required");
 }
 
+TEST(SceneJson, PunctualLights) {
+  json d = minimal();
+  d["lights"] = json::parse(R"([
+    {"type": "point", "position": [0, 2, 0], "intensity": 5},
+    {"type": "spot", "name": "key", "position": [1, 2, 0], "direction": [0, -2, 0],
+     "intensity": [1, 2, 3], "inner_cone_deg": 10, "outer_cone_deg": 20},
+    {"type": "directional", "direction": [0, -1, 1], "intensity": 2}])");
+  const Scene s = parse_scene(d);
+  ASSERT_EQ(s.lights.size(), 3u);
+  EXPECT_EQ(s.lights[0].name, "light0");
+  EXPECT_EQ(s.lights[0].intensity, Rgb(5));
+  EXPECT_EQ(s.lights[1].direction, Vec3(0, -1, 0));
+  EXPECT_EQ(s.lights[1].outer_cone_deg, 20);
+  EXPECT_EQ(s.lights[2].kind, PunctualLight::Kind::Directional);
+  json bad = d;
+  bad["lights"][0]["type"] = "area";
+  expect_rejected(bad, "/lights/0/type", "unknown light type \"area\"");
+  bad = d;
+  bad["lights"][1]["outer_cone_deg"] = 5;
+  expect_rejected(bad, "/lights/1/outer_cone_deg", "the outer cone must be wider");
+  bad = d;
+  bad["lights"][2]["direction"] = {0, 0, 0};
+  expect_rejected(bad, "/lights/2/direction", "must not be zero");
+  bad = d;
+  bad["lights"][0]["direction"] = {0, 1, 0};
+  expect_rejected(bad, "/lights/0/direction", "unknown key");
+  bad = d;
+  bad["lights"][0]["intensity"] = -1;
+  expect_rejected(bad, "/lights/0/intensity", "must be in [0");
+  bad = d;
+  bad["solver"] = {{"direct_light", "radiosity"}};
+  expect_rejected(bad, "/lights", "punctual lights need \"direct_light\": \"exact\"");
+}
+
 TEST(SceneJson, NormalMaps) {
   json d = minimal();
   d["bumps"] = {{"n",

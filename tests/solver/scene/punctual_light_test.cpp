@@ -14,6 +14,7 @@
 #include "solver/radiosity/progressive.h"
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
+#include "solver/solution.h"
 #include "tests/test_scenes.h"
 
 namespace bumprad {
@@ -147,6 +148,23 @@ TEST(PunctualLight, ShoneThroughAWindowTheSunLightsTheWindowsAreaOfFloor) {
     EXPECT_NEAR(solver.direct()[i].g, under ? 0.5 * 2 : 0.0, 1e-12)
         << e.centroid.x << " " << e.centroid.y;
   }
+}
+
+TEST(PunctualLight, TheViewPassShowsAPointLightExactly) {
+  // The floor (rho 0.5) under a point light 2 above it, I = 10 W/sr, seen from straight
+  // above: the centre pixel is rho I / (pi h^2), nothing else lighting it.
+  Scene s = test::scene_of({floor_quad(8)}, 0.5);
+  PunctualLight point;
+  point.position = Vec3(0, 0, 2);
+  point.intensity = Rgb(10);
+  s.lights = {point};
+  s.camera.position = Vec3(0, 0, 1.5);
+  s.camera.look_at = Vec3(0);
+  s.camera.up = Vec3(0, 1, 0);
+  s.camera.width = s.camera.height = 9;
+  s.camera.antialias = 1;
+  const Image image = render(s, solve(s));
+  EXPECT_NEAR(image.at(4, 4).g, 0.5 * 10 / (std::numbers::pi * 4), 1e-4);
 }
 
 }  // namespace
