@@ -157,6 +157,14 @@ Response refusal(const Request& request, std::exception_ptr thrown) {
     Response res = problem(request, http::status::insufficient_storage, "Storage full", e.what());
     res.set(http::field::retry_after, "60");
     return res;
+  } catch (const StoreUnavailable& e) {
+    // The cause goes to the log; the client hears that it may retry.
+    std::fprintf(stderr, "store unavailable answering %s: %s\n",
+                 valid_utf8(request.target()).c_str(), e.what());
+    Response res = problem(request, http::status::service_unavailable, "Store unavailable",
+                           "the job store does not answer; retry after Retry-After seconds");
+    res.set(http::field::retry_after, "5");
+    return res;
   } catch (const std::exception& e) {
     return internal_error(request, e.what());
   }
@@ -168,8 +176,8 @@ Routed Api::handle(const Request& request) {
   Routed routed;
   try {
     routed = route(request);
-  } catch (const std::exception& e) {
-    routed = {"(error)", internal_error(request, e.what())};
+  } catch (...) {
+    routed = {"(error)", refusal(request, std::current_exception())};
   }
   if (request.method() != http::verb::head) return routed;
   // HEAD: what GET would answer, without its body.
@@ -297,10 +305,14 @@ Routed Api::web_asset(const Call& call) {
 }
 
 Routed Api::health(const Call& call) {
-  if (auto trouble = store_.health())
-    return {"/healthz", json_answer(call.request, http::status::service_unavailable,
-                                    R"({"status":"unavailable","store":)" +
-                                        nlohmann::json(valid_utf8(*trouble)).dump() + "}")};
+  // The store's own words name its host, port or socket: they go to the log only.
+  if (auto trouble = store_.health()) {
+    std::fprintf(stderr, "healthz: the store does not answer: %s\n", valid_utf8(*trouble).c_str());
+    Response res = json_answer(call.request, http::status::service_unavailable,
+                               R"({"status":"unavailable","store":"unavailable"})");
+    res.set(http::field::retry_after, "5");
+    return {"/healthz", std::move(res)};
+  }
   return {"/healthz",
           json_answer(call.request, http::status::ok, R"({"status":"ok","store":"ok"})")};
 }

@@ -31,7 +31,7 @@ std::string bytes_of(const pqxx::field& field) {
 
 // What the database said, without the URL (it may hold a password).
 [[noreturn]] void unreachable(const std::exception& e) {
-  throw std::runtime_error(std::string("the job database is unreachable: ") + e.what());
+  throw StoreUnavailable(std::string("the job database is unreachable: ") + e.what());
 }
 
 }  // namespace
@@ -85,24 +85,28 @@ class PostgresStore::Pool {
 
 namespace {
 
-// Runs `body` in a transaction on a pooled connection; a connection that broke midway is
-// dropped and the error says the database is unreachable.
+// Runs `body` in a transaction on a pooled connection. A connection that broke (an idle one
+// from before a database restart, or one cut midway) is dropped and the body runs once more
+// on a new one: nothing of it was committed. If that fails too, the store is unavailable.
 template <typename Pool, typename Body>
 auto in_transaction(Pool& pool, Body&& body) {
-  auto lease = pool.take();
-  try {
-    pqxx::work tx(*lease);
-    if constexpr (std::is_void_v<decltype(body(tx))>) {
-      body(tx);
-      tx.commit();
-    } else {
-      auto result = body(tx);
-      tx.commit();
-      return result;
+  for (int attempt = 0;; ++attempt) {
+    auto lease = pool.take();
+    try {
+      pqxx::work tx(*lease);
+      if constexpr (std::is_void_v<decltype(body(tx))>) {
+        body(tx);
+        tx.commit();
+        return;
+      } else {
+        auto result = body(tx);
+        tx.commit();
+        return result;
+      }
+    } catch (const pqxx::broken_connection& e) {
+      (*lease).disconnect();
+      if (attempt > 0) unreachable(e);
     }
-  } catch (const pqxx::broken_connection& e) {
-    (*lease).disconnect();
-    unreachable(e);
   }
 }
 

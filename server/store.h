@@ -33,6 +33,13 @@ class StoreFull : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The store does not answer (a database that is down or unreachable); the client should
+// retry shortly (HTTP 503). The message never names the store's URL.
+class StoreUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // An Idempotency-Key reused with another request (HTTP 422).
 class KeyReused : public std::runtime_error {
  public:

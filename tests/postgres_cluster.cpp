@@ -37,15 +37,23 @@ PostgresCluster::PostgresCluster() : bin_(postgres_bin()), root_(::geteuid() == 
   auto init = run_command(as_owner(bin_ + "/initdb -D " + dir_.string() +
                                    "/data -A trust -U bumprad --no-sync -E UTF8"));
   if (init.exit_code != 0) throw std::runtime_error("initdb failed: " + init.output);
-  auto start = run_command(
+  start();
+}
+
+void PostgresCluster::start() {
+  auto started = run_command(
       as_owner(bin_ + "/pg_ctl -D " + dir_.string() + "/data -l " + dir_.string() +
                "/log -w start -o \"" + "-c listen_addresses='' -k " + dir_.string() + " -p " +
                std::to_string(kPort) + " -c fsync=off -c max_connections=200\""));
-  if (start.exit_code != 0) throw std::runtime_error("pg_ctl start failed: " + start.output);
+  if (started.exit_code != 0) throw std::runtime_error("pg_ctl start failed: " + started.output);
+}
+
+void PostgresCluster::stop() {
+  run_command(as_owner(bin_ + "/pg_ctl -D " + dir_.string() + "/data -m immediate -w stop"));
 }
 
 PostgresCluster::~PostgresCluster() {
-  run_command(as_owner(bin_ + "/pg_ctl -D " + dir_.string() + "/data -m immediate -w stop"));
+  stop();
   std::error_code ignored;
   std::filesystem::remove_all(dir_, ignored);
 }

@@ -20,6 +20,10 @@ class PostgresCluster {
   // A new, empty database; its URL.
   std::string create_database(const std::string& name);
 
+  // An outage: the server stops at once (connections cut) and starts again, the data kept.
+  void stop();
+  void start();
+
  private:
   std::string as_owner(const std::string& command) const;
   std::filesystem::path dir_;

@@ -14,6 +14,7 @@
 #include <memory>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -105,6 +106,30 @@ TEST_F(Postgres, AnApiNodeServesWhatAWorkerNodeSolves) {
   PostgresStore again(url, {});
   EXPECT_FALSE(again.health());
   EXPECT_EQ(PostgresStore::schema_version(), 1);
+}
+
+// While the database is down every request that needs it answers 503 with Retry-After,
+// naming neither the database's socket nor its port; once it is back, the same node serves
+// again without a restart (#28 item 2).
+TEST_F(Postgres, ADatabaseOutageAnswers503AndPasses) {
+  const std::string url = fresh_database();
+  Node api(node(url, 0));
+  const std::string id = submit(api, test::small_job_json(5, 2));
+  cluster_->stop();
+  for (const auto& [method, target, body] :
+       {std::tuple{verb::get, std::string("/v1/jobs"), std::string()},
+        std::tuple{verb::get, "/v1/jobs/" + id, std::string()},
+        std::tuple{verb::post, std::string("/v1/jobs"), test::small_job_json(5, 2)},
+        std::tuple{verb::get, std::string("/healthz"), std::string()}}) {
+    const Response r = answer(api, request(method, target, body));
+    EXPECT_EQ(r.result_int(), 503) << target << ": " << r.body();
+    EXPECT_EQ(r[http::field::retry_after], "5") << target;
+    EXPECT_EQ(r.body().find("bumprad-pg-"), std::string::npos) << r.body();
+    EXPECT_EQ(r.body().find("5432"), std::string::npos) << r.body();
+  }
+  cluster_->start();
+  EXPECT_EQ(answer(api, request(verb::get, "/v1/jobs/" + id)).result_int(), 200);
+  EXPECT_EQ(answer(api, request(verb::get, "/healthz")).result_int(), 200);
 }
 
 TEST_F(Postgres, ARetriedSubmissionGetsTheSameJobOnAnyNode) {
