@@ -70,10 +70,6 @@ class Reader {
            " no texture coordinates: bump functions use a projection along the normals' main "
            "axes (docs/import.md)");
     read_lights();
-    if (model_.lights.empty() &&
-        std::none_of(model_.materials.begin(), model_.materials.end(),
-                     [](const Material& m) { return m.emission != Rgb(0); }))
-      warn("no material emits light and it has no lights: the image will be black");
     read_camera();
     return std::move(model_);
   }

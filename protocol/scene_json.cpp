@@ -640,6 +640,14 @@ Scene parse_scene(const json& document, const ImageFiles& outside,
                             " elements; raise element_size (per object under \"mesh\", or in "
                             "\"solver\")");
   }
+  // Nothing that shines renders black: say so (models often bring no light of their own).
+  const bool shines = !scene.lights.empty() ||
+                      std::any_of(scene.objects.begin(), scene.objects.end(), [&](const Object& o) {
+                        return scene.materials[std::size_t(o.material)].emission != Rgb(0);
+                      });
+  if (!shines)
+    model_warnings.push_back(
+        "/objects: nothing emits light (no emitting material, no light): the image will be black");
   // Without a "camera": the first placed model's own, else one framed on the scene.
   if (!root.get("camera"))
     scene.camera = model_camera ? *model_camera : framed_camera(build_mesh(scene), scene.camera);

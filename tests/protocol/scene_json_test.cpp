@@ -438,6 +438,22 @@ TEST(SceneJson, PunctualLights) {
   bad = d;
   bad["solver"] = {{"direct_light", "radiosity"}};
   expect_rejected(bad, "/lights", "punctual lights need \"direct_light\": \"exact\"");
+
+  // A scene where nothing shines says it will render black; a light, or an emitter, is enough.
+  json dark = minimal();
+  for (auto& [name, m] : dark["materials"].items()) m.erase("emission");
+  std::vector<std::string> warnings;
+  parse_scene(dark, {}, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0],
+            "/objects: nothing emits light (no emitting material, no light): the "
+            "image will be black");
+  warnings.clear();
+  dark["lights"] = d["lights"];
+  parse_scene(dark, {}, &warnings);
+  EXPECT_TRUE(warnings.empty());
+  parse_scene(minimal(), {}, &warnings);
+  EXPECT_TRUE(warnings.empty());
 }
 
 TEST(SceneJson, NormalMaps) {
