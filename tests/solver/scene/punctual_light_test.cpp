@@ -79,6 +79,16 @@ TEST(PunctualLight, AShadowRayHidesWhatIsBehindSomething) {
   EXPECT_GT(punctual_irradiance(point, Vec3(1.8, 0, 0), up, Vec3(1.8, 0, 1e-6), rays).g, 0);
 }
 
+// The floor (n x n elements, rho 0.5) under a point light 2 above its centre, I = 10 W/sr.
+Scene point_lit_floor(int n) {
+  Scene s = test::scene_of({floor_quad(n)}, 0.5);
+  PunctualLight point;
+  point.position = Vec3(0, 0, 2);
+  point.intensity = Rgb(10);
+  s.lights = {point};
+  return s;
+}
+
 // The solid angle of the rectangle [0, a] x [0, b] seen from height h over its corner.
 double corner_solid_angle(double a, double b, double h) {
   return std::atan(a * b / (h * std::sqrt(h * h + a * a + b * b)));
@@ -87,11 +97,7 @@ double corner_solid_angle(double a, double b, double h) {
 TEST(PunctualLight, ShoneIntoTheSolveAPointLightsEachElementBySolidAngle) {
   // 16 x 16 elements of 0.25; light 2 above the origin. An element's mean irradiance is
   // I Omega / A; the solve takes the mean over its four quarter points: within 0.5 % here.
-  Scene s = test::scene_of({floor_quad(16)}, 0.5);
-  PunctualLight point;
-  point.position = Vec3(0, 0, 2);
-  point.intensity = Rgb(10);
-  s.lights = {point};
+  Scene s = point_lit_floor(16);
   const Mesh mesh = build_mesh(s);
   const RayScene rays(mesh);
   ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
@@ -154,11 +160,7 @@ TEST(PunctualLight, ShoneThroughAWindowTheSunLightsTheWindowsAreaOfFloor) {
 TEST(PunctualLight, TheViewPassShowsAPointLightExactly) {
   // The floor (rho 0.5) under a point light 2 above it, I = 10 W/sr, seen from straight
   // above: the centre pixel is rho I / (pi h^2), nothing else lighting it.
-  Scene s = test::scene_of({floor_quad(8)}, 0.5);
-  PunctualLight point;
-  point.position = Vec3(0, 0, 2);
-  point.intensity = Rgb(10);
-  s.lights = {point};
+  Scene s = point_lit_floor(8);
   s.camera.position = Vec3(0, 0, 1.5);
   s.camera.look_at = Vec3(0);
   s.camera.up = Vec3(0, 1, 0);
