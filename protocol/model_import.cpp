@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <utility>
 
 #include <assimp/GltfMaterial.h>
 #include <assimp/ObjMaterial.h>
@@ -31,6 +32,13 @@ constexpr double kMaxReflectance = 0.99;
 
 Vec3 vec(const aiVector3D& v) {
   return {v.x, v.y, v.z};
+}
+
+// The corners of the box around a mesh's positions (there is at least one).
+std::pair<Vec3, Vec3> bounds(const TriangleMeshShape& m) {
+  Vec3 lo = m.positions.front(), hi = lo;
+  for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return {lo, hi};
 }
 
 bool finite_within_limit(const Vec3& p) {
@@ -271,7 +279,6 @@ class Reader {
     const std::size_t material =
         std::min<std::size_t>(mesh.mMaterialIndex, model_.materials.size() - 1);
     if (material_two_sided_[material] && has_open_edges(shape)) add_back_faces(shape);
-    for (const Vec3& p : shape.positions) grow(p);
     Object o;
     o.name = name;
     o.material = int(material);
@@ -298,8 +305,7 @@ class Reader {
   // a ten-thousandth of the mesh's extent behind, so each side receives and shows light (a
   // surface in bumprad is lit on its front only; coincident sheets would fight over hits).
   static void add_back_faces(TriangleMeshShape& m) {
-    Vec3 lo = m.positions.front(), hi = lo;
-    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const auto [lo, hi] = bounds(m);
     const double offset = 1e-4 * glm::length(hi - lo);
     std::vector<Vec3> facing(m.positions.size(), Vec3(0));
     for (const auto& t : m.triangles) {
@@ -326,8 +332,7 @@ class Reader {
   // largest extent. Continuous across every flat or gently curved run of triangles; a
   // triangle whose corners' normals lean to different axes is stretched between them.
   static void project_uvs(TriangleMeshShape& m) {
-    Vec3 lo = m.positions.front(), hi = lo;
-    for (const Vec3& p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const auto [lo, hi] = bounds(m);
     const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300});
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
       const Vec3 n = m.normals.empty() ? Vec3(0, 0, 1) : glm::abs(m.normals[i]);
@@ -339,13 +344,6 @@ class Reader {
       else
         m.uvs.push_back({p.x, p.y});
     }
-  }
-
-  void grow(const Vec3& p) {
-    if (!any_) model_.bounds_min = model_.bounds_max = p;
-    model_.bounds_min = glm::min(model_.bounds_min, p);
-    model_.bounds_max = glm::max(model_.bounds_max, p);
-    any_ = true;
   }
 
   // The node's transform to the world.
@@ -418,7 +416,6 @@ class Reader {
   ImportedModel model_;
   std::vector<int> material_bump_;        // per material: its normal map in model_.bumps, or -1
   std::vector<bool> material_two_sided_;  // per material: glTF's doubleSided
-  bool any_ = false;
   std::size_t dropped_ = 0;
   std::vector<std::string> without_uvs_;  // meshes given projected texture coordinates
   std::vector<std::vector<std::string>> material_warnings_;  // per material read
@@ -451,16 +448,12 @@ void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
   const glm::dmat3 normals = glm::transpose(glm::inverse(linear));
   const bool mirrored = glm::determinant(linear) < 0;
   auto point = [&](const Vec3& p) { return Vec3(to_world * glm::dvec4(p, 1)); };
-  bool first = true;
   for (Object& o : model.objects) {
     auto& m = std::get<TriangleMeshShape>(o.shape);
     for (Vec3& p : m.positions) {
       p = point(p);
       if (!finite_within_limit(p))
         throw ModelError("object \"" + o.name + "\": the transform takes it beyond 1e12");
-      model.bounds_min = first ? p : glm::min(model.bounds_min, p);
-      model.bounds_max = first ? p : glm::max(model.bounds_max, p);
-      first = false;
     }
     for (Vec3& n : m.normals)
       if (glm::length(normals * n) > 0) n = glm::normalize(normals * n);

@@ -29,7 +29,6 @@ struct ImportedModel {
   std::vector<Object> objects;        // triangle meshes; indices into `materials` and `bumps`
   std::vector<PunctualLight> lights;  // KHR_lights_punctual (and other formats' lights)
   std::optional<Camera> camera;       // the file's first camera
-  Vec3 bounds_min{0}, bounds_max{0};
   std::vector<std::string> warnings;  // what was dropped or assumed, naming the mesh
 };
 
@@ -42,7 +41,7 @@ ImportedModel import_model(const std::filesystem::path& file,
                            const std::optional<std::filesystem::path>& confine = {});
 
 // Moves the model by `to_world` (positions; normals by its inverse transpose; a mirroring
-// one turns the triangles' winding back; bounds and camera follow).
+// one turns the triangles' winding back; lights and camera follow).
 void transform_model(ImportedModel& model, const glm::dmat4& to_world);
 
 }  // namespace bumprad
