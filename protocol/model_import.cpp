@@ -18,6 +18,7 @@
 #include <glm/matrix.hpp>
 
 #include "common/paths.h"
+#include "protocol/gltf_json.h"
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/texture.h"
@@ -54,7 +55,12 @@ class Reader {
       : file_(file), scene_(scene), confine_(confine), obj_(file.extension() == ".obj") {}
 
   ImportedModel read() {
-    for (unsigned i = 0; i < scene_.mNumMaterials; ++i) read_material(*scene_.mMaterials[i]);
+    if (is_gltf_file(file_)) try {
+        gltf_ = read_gltf_json(file_);
+      } catch (const std::exception& e) {
+        fail(e.what());
+      }
+    for (unsigned i = 0; i < scene_.mNumMaterials; ++i) read_material(*scene_.mMaterials[i], i);
     if (model_.materials.empty()) {
       Material fallback;
       fallback.name = "default";
@@ -92,7 +98,8 @@ class Reader {
   // reflectance, less what metallic sends to the specular lobe; emissive colour times its
   // strength (KHR_materials_emissive_strength) as radiance, so emission (radiosity) is pi
   // times it, as Cycles reads the same file; the normal map as the material's bump.
-  void read_material(const aiMaterial& m) {
+  // Assimp's glTF importer keeps the file's materials in order (its default one last).
+  void read_material(const aiMaterial& m, unsigned index) {
     Material out;
     out.name = m.GetName().C_Str();
     if (out.name.empty()) out.name = "material " + std::to_string(model_.materials.size());
@@ -146,6 +153,7 @@ class Reader {
     float strength = 1;
     m.Get(AI_MATKEY_COLOR_EMISSIVE, emissive);
     m.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength);
+    if (gltf_) strength = float(gltf_emissive_strength(*gltf_, index).value_or(strength));
     Rgb radiance = double(strength) * Rgb(emissive.r, emissive.g, emissive.b);
     if (auto image = texture(m, {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}, what,
                              PixelMeaning::Color)) {
@@ -388,19 +396,28 @@ class Reader {
     }
   }
 
-  // The first camera, placed by its node; Assimp gives half the horizontal field of view.
+  // The first camera, placed by its node. Assimp's importers give the whole horizontal field
+  // of view (whatever aiCamera's comment says); its glTF importer also copies the node's
+  // translation into the camera's local position, which would apply it twice, and derives
+  // the angle differently from one version to the next, so a glTF camera's yfov and aspect
+  // ratio are read from the file's JSON and its position is its node's origin.
   void read_camera() {
     if (scene_.mNumCameras == 0) return;
     const aiCamera& cam = *scene_.mCameras[0];
     const aiMatrix4x4 to_world = world_of(cam.mName);
+    const aiVector3D local = gltf_ ? aiVector3D(0, 0, 0) : cam.mPosition;
     Camera c;
-    c.position = vec(to_world * cam.mPosition);
-    c.look_at = vec(to_world * (cam.mPosition + cam.mLookAt));
+    c.position = vec(to_world * local);
+    c.look_at = vec(to_world * (local + cam.mLookAt));
     c.up = glm::normalize(vec(aiMatrix3x3(to_world) * cam.mUp));
-    const double aspect = cam.mAspect > 0 ? cam.mAspect : 1;
+    double aspect = cam.mAspect > 0 ? cam.mAspect : 1;
     if (cam.mHorizontalFOV > 0)
       c.fov_y_deg =
-          2 * std::atan(std::tan(double(cam.mHorizontalFOV)) / aspect) * 180 / std::numbers::pi;
+          2 * std::atan(std::tan(double(cam.mHorizontalFOV) / 2) / aspect) * 180 / std::numbers::pi;
+    if (const auto p = gltf_ ? first_perspective_camera(*gltf_) : std::nullopt) {
+      if (p->aspect > 0) aspect = p->aspect;
+      c.fov_y_deg = p->yfov * 180 / std::numbers::pi;
+    }
     c.width = 512;
     c.height = std::max(1, int(std::lround(512 / aspect)));
     if (!finite_within_limit(c.position) || !finite_within_limit(c.look_at) ||
@@ -413,6 +430,7 @@ class Reader {
   const aiScene& scene_;
   const std::optional<std::filesystem::path>& confine_;
   const bool obj_;
+  std::optional<nlohmann::json> gltf_;  // a glTF file's JSON, for what Assimp misreads
   ImportedModel model_;
   std::vector<int> material_bump_;        // per material: its normal map in model_.bumps, or -1
   std::vector<bool> material_two_sided_;  // per material: glTF's doubleSided

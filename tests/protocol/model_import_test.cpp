@@ -190,6 +190,40 @@ TEST(ModelImport, NodeTransformsPlaceMeshesAndAMirrorKeepsThemFacingOut) {
   EXPECT_GT(scene.camera.position.z, 0);
 }
 
+// KHR_materials_emissive_strength multiplies the emissive factor (Blender writes it for any
+// strength above 1; Assimp 5.2 does not read it, so it comes from the file's JSON).
+TEST(ModelImport, EmissiveStrengthMultipliesTheEmission) {
+  const auto dir = test::fresh_temp_dir("import-emissive-strength");
+  const ImportedModel model =
+      import_model(mirrored_quad_gltf(dir, R"({"name": "lamp", "emissiveFactor": [1, 0.5, 0.25],
+               "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 12}}})"));
+  const Material& m = model.materials[std::size_t(model.objects[0].material)];
+  EXPECT_NEAR(glm::length(m.emission - 12 * std::numbers::pi * Rgb(1, 0.5, 0.25)), 0, 1e-5);
+}
+
+// A glTF camera stands at its node's origin, looks along the node's -z, and keeps the file's
+// vertical field of view and aspect ratio (Assimp alone put it at twice the node's
+// translation with twice the angle: a room rendered small and off centre).
+TEST(ModelImport, AGltfCameraStandsWhereItsNodePutsIt) {
+  const auto dir = test::fresh_temp_dir("import-camera");
+  const auto file =
+      mirrored_quad_gltf(dir, R"({"name": "plain", "pbrMetallicRoughness": {"metallicFactor": 0}})",
+                         R"("cameras": [{"type": "perspective",
+                      "perspective": {"yfov": 0.5, "aspectRatio": 2, "znear": 0.1}}],)",
+                         R"(, "camera": 0, "rotation": [0, 0.70710678, 0, 0.70710678])");
+  const ImportedModel model = import_model(file);
+  ASSERT_TRUE(model.camera);
+  const Camera& c = *model.camera;
+  EXPECT_NEAR(glm::length(c.position - Vec3(5, 0, 0)), 0, 1e-6);
+  // A quarter turn about +y takes -z to -x.
+  EXPECT_NEAR(glm::length(glm::normalize(c.look_at - c.position) - Vec3(-1, 0, 0)), 0, 1e-6);
+  EXPECT_NEAR(glm::length(c.up - Vec3(0, 1, 0)), 0, 1e-6);
+  EXPECT_NEAR(c.fov_y_deg, 0.5 * 180 / std::numbers::pi, 1e-4);
+  EXPECT_EQ(c.width, 512);
+  EXPECT_EQ(c.height, 256);
+  EXPECT_NEAR(glm::length(load_scene(file.string()).camera.position - Vec3(5, 0, 0)), 0, 1e-6);
+}
+
 // glTF's doubleSided: an open sheet gets its back as a second sheet facing the other way; a
 // closed mesh (the real test box, doubleSided too) is left alone, its back never seen.
 TEST(ModelImport, DoubleSidedSheetsGetABackAndClosedMeshesDoNot) {
