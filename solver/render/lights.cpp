@@ -65,15 +65,8 @@ void Lights::group_emitters() {
         *std::lower_bound(emitters_.begin(), emitters_.end(), elements.front(),
                           [](const Emitter& a, std::uint32_t i) { return a.element < i; });
     auto add = [&](std::vector<std::uint32_t> members, std::vector<Vec3> outline) {
-      Group g{std::move(outline),
-              std::move(members),
-              {},
-              em.emission,
-              em.weight,
-              first.centroid,
-              first.normal,
-              Vec3(0),
-              0};
+      Group g{std::move(outline), std::move(members), {},      em.emission, em.weight,
+              first.centroid,     first.normal,       Vec3(0), 0,           false};
       double area = 0;
       for (std::uint32_t i : g.elements) {
         g.cumulative.push_back(area += mesh_.elements[i].area);
@@ -82,6 +75,11 @@ void Lights::group_emitters() {
       g.centre /= area;
       for (double& c : g.cumulative) c /= area;
       for (const Vec3& c : g.outline) g.radius = std::max(g.radius, glm::length(c - g.centre));
+      g.convex_quad = g.outline.size() == 4;
+      for (std::size_t k = 0; k < g.outline.size() && g.convex_quad; ++k) {
+        const Vec3 &a = g.outline[k], &b = g.outline[(k + 1) % 4], &c = g.outline[(k + 2) % 4];
+        g.convex_quad = glm::dot(glm::cross(b - a, c - b), g.normal) > 0;
+      }
       groups_.push_back(std::move(g));
     };
     std::vector<Vec3> outline = planar_outline(elements);
@@ -131,17 +129,23 @@ std::vector<Vec3> Lights::planar_outline(std::span<const std::uint32_t> elements
   return corners.size() >= 3 ? corners : std::vector<Vec3>{};
 }
 
-Vec3 Lights::point_on(const Element& e, Random& random) const {
+Vec3 Lights::point_on(const Element& e, double u, double v) const {
   auto corner = [&](int c) { return mesh_.vertices[e.v[std::size_t(c)]].position; };
-  // A quad is two triangles (planar and convex); each is picked by its area.
+  // A quad is two triangles (planar and convex); u picks one by its area and, rescaled,
+  // goes on to place the point in it.
   Vec3 a = corner(0), b = corner(1), c = corner(2);
   if (e.vertex_count == 4) {
     const double first =
-        0.5 * glm::length(glm::cross(corner(1) - corner(0), corner(2) - corner(0)));
-    if (random.next() * e.area >= first) b = corner(2), c = corner(3);
+        0.5 * glm::length(glm::cross(corner(1) - corner(0), corner(2) - corner(0))) / e.area;
+    if (u < first) {
+      u /= first;
+    } else {
+      u = (u - first) / (1 - first);
+      b = corner(2), c = corner(3);
+    }
   }
-  const double s = std::sqrt(random.next()), t = random.next();
-  return (1 - s) * a + s * (1 - t) * b + s * t * c;
+  const double s = std::sqrt(std::min(u, 1.0));
+  return (1 - s) * a + s * (1 - v) * b + s * v * c;
 }
 
 Lights::Sample Lights::sample(Random& random) const {
@@ -152,7 +156,9 @@ Lights::Sample Lights::sample(Random& random) const {
                emitters_.size() - 1);
   const Element& e = mesh_.elements[emitters_[i].element];
   const double chosen = cumulative_[i] - (i > 0 ? cumulative_[i - 1] : 0);
-  return {emitters_[i].element, point_on(e, random), chosen / e.area, emitters_[i].emission};
+  const double u = random.next();
+  return {emitters_[i].element, point_on(e, u, random.next()), chosen / e.area,
+          emitters_[i].emission};
 }
 
 bool Lights::visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
@@ -258,9 +264,10 @@ double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distan
 }
 
 // The emitters and their images that x sees in front of both planes, with their exact
-// unoccluded F: a group whole, or near it (within kGroupReach of its radius) element by
-// element, because shadow rays picked by area weigh a group's parts by area rather than by
-// their form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
+// unoccluded F: a group whole (a convex quad always: its rays each take a cell of it with
+// the cell's own F), or near it (within kGroupReach of its radius) element by element,
+// because shadow rays picked by area weigh a group's parts by area rather than by their
+// form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
 // Returns the sum of their shares.
 double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const {
   static constexpr double kWhole = 1;
@@ -282,13 +289,15 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
     const double f = point_to_polygon(x, normal, corners);
     if (!(f > 0)) return;
     const double share = f * g.weight * (mirror ? mirror->specular : 1);
-    seen.push_back({elements, cumulative, &g, mirror, f, share});
+    seen.push_back({elements, cumulative, &g, mirror, f, share,
+                    g.convex_quad && elements.size() == g.elements.size()});
     total += share;
   };
   std::array<Vec3, 4> storage;
   auto consider_group = [&](const Group& g, const Mirror* mirror) {
     const Vec3 centre = mirror ? mirror->reflect(g.centre) : g.centre;
-    if (g.elements.size() == 1 || glm::length(x - centre) > kGroupReach * g.radius) {
+    if (g.convex_quad || g.elements.size() == 1 ||
+        glm::length(x - centre) > kGroupReach * g.radius) {
       consider(g, g.elements, g.cumulative, g.outline, mirror);
       return;
     }
@@ -303,23 +312,61 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
   return total;
 }
 
-// One shadow ray from `from` to a point of what `s` sees, picked by area.
-bool Lights::visible(const Seen& s, const Vec3& from, const Vec3& geometric, const RayScene& rays,
-                     Random& random) const {
-  const std::size_t pick =
-      s.elements.size() == 1
-          ? 0
-          : std::min(std::size_t(
-                         std::lower_bound(s.cumulative.begin(), s.cumulative.end(), random.next()) -
-                         s.cumulative.begin()),
-                     s.elements.size() - 1);
-  const Vec3 y = point_on(mesh_.elements[s.elements[pick]], random);
+// A point of what `s` sees for (u, v) in [0,1)^2, uniform by area: u picks an element by
+// area and, rescaled, goes on to place the point in it.
+Vec3 Lights::point_on(const Seen& s, double u, double v) const {
+  std::size_t pick = 0;
+  if (s.elements.size() > 1) {
+    pick = std::min(std::size_t(std::upper_bound(s.cumulative.begin(), s.cumulative.end(), u) -
+                                s.cumulative.begin()),
+                    s.elements.size() - 1);
+    const double below = pick > 0 ? s.cumulative[pick - 1] : 0;
+    u = std::clamp((u - below) / (s.cumulative[pick] - below), 0.0, 1.0);
+  }
+  return point_on(mesh_.elements[s.elements[pick]], u, v);
+}
+
+// A shadow ray from `from` to the emitter point y (through the mirror, to y's image).
+bool Lights::arrives(const Seen& s, const Vec3& from, const Vec3& geometric, const Vec3& y,
+                     const RayScene& rays) const {
   Vec3 d = (s.mirror ? s.mirror->reflect(y) : y) - from;
   const double distance = glm::length(d);
   d /= distance;
   if (glm::dot(d, geometric) <= 0) return false;
   if (!s.mirror) return !rays.occluded({from, d}, distance - 2 * epsilon_);
   return visible_through(*s.mirror, from, from + d * distance, rays);
+}
+
+// A convex quad's light on x from `rays` shadow rays: the quad cut into a grid of as many
+// cells (as near square as the count allows), one ray to a random point of each, and each
+// cell that ray reaches adding its own exact F. Cells are small, so weighing a cell's points
+// by area rather than by form factor costs nothing, and a penumbra's noise is that of the
+// cells its edge crosses alone.
+double Lights::quad_cells(const Seen& s, const Vec3& x, const Vec3& normal, const Vec3& from,
+                          const Vec3& geometric, const RayScene& rays, int count,
+                          Random& random) const {
+  int across = int(std::sqrt(double(count)));
+  while (count % across) --across;
+  const int down = count / across;
+  const auto& c = s.group->outline;
+  auto at = [&](double u, double v) {
+    return (1 - v) * ((1 - u) * c[0] + u * c[1]) + v * ((1 - u) * c[3] + u * c[2]);
+  };
+  std::array<Vec3, 4> cell;
+  double f = 0;
+  for (int i = 0; i < across; ++i)
+    for (int j = 0; j < down; ++j) {
+      const double u0 = double(i) / across, u1 = double(i + 1) / across;
+      const double v0 = double(j) / down, v1 = double(j + 1) / down;
+      cell = {at(u0, v0), at(u1, v0), at(u1, v1), at(u0, v1)};
+      if (s.mirror)
+        for (Vec3& p : cell) p = s.mirror->reflect(p);
+      const double f_cell = point_to_polygon(x, normal, cell);
+      if (!(f_cell > 0)) continue;
+      const double u = u0 + random.next() * (u1 - u0);
+      if (arrives(s, from, geometric, at(u, v0 + random.next() * (v1 - v0)), rays)) f += f_cell;
+    }
+  return f;
 }
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
@@ -335,29 +382,48 @@ Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, con
   const double total = seen_from(x, normal, seen);
   if (seen.empty()) return Rgb(0);
 
-  auto arriving = [&](const Seen& s) {
-    return s.group->emission * (s.form_factor * (s.mirror ? s.mirror->specular : 1));
-  };
+  auto specular = [](const Seen& s) { return s.mirror ? s.mirror->specular : 1; };
   const int n = std::max(1, shadow_rays);
   Rgb sum(0);
   if (seen.size() <= std::size_t(n)) {
-    // Few: each gets its own rays, so one seen whole adds exactly (k_s) E F.
+    // Few: each gets its own rays, so one seen whole adds exactly (k_s) E F: a convex quad
+    // by cells, anything else by the share of rays to stratified points of it (Sobol02)
+    // that arrive.
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
-      int hits = 0;
-      for (int r = 0; r < each; ++r) hits += visible(s, from, geometric, rays, random);
-      sum += arriving(s) * (double(hits) / each);
+      double f = 0;
+      if (s.by_cells) {
+        f = quad_cells(s, x, normal, from, geometric, rays, each, random);
+      } else {
+        const Sobol02 points(random);
+        int hits = 0;
+        for (int r = 0; r < each; ++r) {
+          const auto [u, v] = points[std::uint32_t(r)];
+          hits += arrives(s, from, geometric, point_on(s, u, v), rays);
+        }
+        f = s.form_factor * hits / each;
+      }
+      sum += s.group->emission * (f * specular(s));
     }
     return sum;
   }
-  // Many: n rays stratified over them by contribution (systematic sampling); each ray that
-  // arrives adds its source's (k_s) E F divided by the chance it was chosen.
+  // Many: n rays stratified over them by contribution (the first coordinate runs along
+  // their shares, then on within the one it falls in); each ray that arrives adds its
+  // source's (k_s) E F divided by the chance it was chosen.
+  thread_local std::vector<double> reached;
+  reached.clear();
+  for (const Seen& s : seen) reached.push_back((reached.empty() ? 0 : reached.back()) + s.share);
+  const Sobol02 points(random);
   const double step = total / n;
-  double next = random.next() * step, reached = 0;
-  for (const Seen& s : seen) {
-    reached += s.share;
-    for (; next < reached; next += step)
-      if (visible(s, from, geometric, rays, random)) sum += arriving(s) * (step / s.share);
+  for (int r = 0; r < n; ++r) {
+    auto [u, v] = points[std::uint32_t(r)];
+    const std::size_t k = std::min(
+        std::size_t(std::upper_bound(reached.begin(), reached.end(), u * total) - reached.begin()),
+        seen.size() - 1);
+    const Seen& s = seen[k];
+    u = std::clamp((u * total - (reached[k] - s.share)) / s.share, 0.0, 1.0);
+    if (arrives(s, from, geometric, point_on(s, u, v), rays))
+      sum += s.group->emission * (s.form_factor * specular(s) * step / s.share);
   }
   return sum;
 }

@@ -1,7 +1,8 @@
 // Every random number of the solver comes from here, the same on every compiler and standard
 // library. Random: a small counter-based generator (splitmix64, Steele et al. 2014);
 // renderers seed one per pixel and sample, so images do not depend on threads or the order
-// of rows. MersenneTwister: the solve's stream of hemi-cube turns.
+// of rows. MersenneTwister: the solve's stream of hemi-cube turns. Sobol02: stratified
+// points in the square, for integrands with edges (a shadow's penumbra).
 #pragma once
 
 #include <cstdint>
@@ -24,6 +25,7 @@ class Random {
   explicit Random(std::uint64_t seed) : state_(seed) {}
   // Uniform in [0, 1).
   double next() { return double(hash64(state_ += 0x9e3779b97f4a7c15ull) >> 11) * 0x1.0p-53; }
+  std::uint32_t bits() { return std::uint32_t(hash64(state_ += 0x9e3779b97f4a7c15ull) >> 32); }
 
  private:
   std::uint64_t state_;
@@ -53,6 +55,31 @@ class MersenneTwister {
 
  private:
   std::mt19937 engine_;
+};
+
+// The (0,2)-sequence in base 2 (van der Corput's and Sobol's second dimension), each
+// coordinate scrambled by a random digital shift (XOR), which keeps its strata: any first
+// 2^m points form a (0,m,2)-net, one point in every one of the 2^m boxes of area 2^-m of
+// each dyadic shape (2^m x 1, ..., 1 x 2^m). So its first 4 points stratify the square 2 x 2,
+// and 32 points, the first 4 among them, stratify it again 32-fold: a count can grow where
+// the first samples disagree without throwing them away.
+class Sobol02 {
+ public:
+  explicit Sobol02(Random& random) : shift_x_(random.bits()), shift_y_(random.bits()) {}
+  std::pair<double, double> operator[](std::uint32_t i) const {
+    std::uint32_t x = i, y = 0;
+    x = (x << 16) | (x >> 16);  // bit reversal: the radical inverse of i in base 2
+    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
+    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
+    x = ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
+    for (std::uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
+      if (i & 1) y ^= v;
+    return {double(x ^ shift_x_) * 0x1.0p-32, double(y ^ shift_y_) * 0x1.0p-32};
+  }
+
+ private:
+  std::uint32_t shift_x_, shift_y_;
 };
 
 }  // namespace bumprad

@@ -74,5 +74,31 @@ TEST(Random, ShuffleIsAPermutationThatDependsOnlyOnTheSeed) {
   for (int i = 0; i < 1000; ++i) EXPECT_EQ(a[std::size_t(i)], i);
 }
 
+// The first 2^m points of a scrambled (0,2)-sequence are a (0,m,2)-net: one point in each
+// box of every dyadic shape of area 2^-m (here m = 2 and m = 6, for several scrambles), and
+// the first 4 of the first 64 are the first net again.
+TEST(Random, Sobol02PointsStratifyEveryDyadicShape) {
+  for (std::uint64_t seed : {1, 2, 3}) {
+    Random random(seed);
+    const Sobol02 points(random);
+    for (int m : {2, 6}) {
+      const int count = 1 << m;
+      for (int k = 0; k <= m; ++k) {  // boxes of 2^-k by 2^-(m-k)
+        std::vector<int> in(std::size_t(count), 0);
+        for (int i = 0; i < count; ++i) {
+          const auto [u, v] = points[std::uint32_t(i)];
+          ASSERT_GE(u, 0);
+          ASSERT_LT(u, 1);
+          ASSERT_GE(v, 0);
+          ASSERT_LT(v, 1);
+          const int bx = int(u * (1 << k)), by = int(v * (1 << (m - k)));
+          ++in[std::size_t(bx * (1 << (m - k)) + by)];
+        }
+        for (int n : in) EXPECT_EQ(n, 1) << "seed " << seed << " m " << m << " k " << k;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace bumprad
