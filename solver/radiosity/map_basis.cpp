@@ -2,14 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <glm/geometric.hpp>
 
 namespace bumprad {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 constexpr std::size_t kHarmonics = 18;
 
 // Real orthonormal spherical harmonics of bands 0, 1, 2 and 4 at a unit direction. Band 3

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -20,8 +19,6 @@
 
 namespace bumprad {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 class PathTracer {
  public:

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <functional>
 #include <map>
-#include <numbers>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -13,8 +12,6 @@
 
 namespace bumprad {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // Every shape but the triangle mesh is a set of parametric grids P(u,v) on [0,1]^2.
 struct Grid {

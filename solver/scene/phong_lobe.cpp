@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include <glm/geometric.hpp>
 
 namespace bumprad {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // The share of a cos^n lobe about a direction at elevation beta (radians, negative below)
 // that lies above the plane. A cone of half-angle a about the lobe's axis has the fraction

@@ -3,14 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <glm/geometric.hpp>
 
 namespace bumprad {
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 double radians(double degrees) {
   return degrees * kPi / 180;
