@@ -1,7 +1,9 @@
 #include "server/job_runner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <thread>
 
 #include "common/stopwatch.h"
 #include "protocol/solution_file.h"
@@ -19,6 +21,9 @@ constexpr double kPreviewShare = 0.25;
 // A step without a preview reaches the store at most this often: a lease (seconds long) and a
 // progress bar need no more, and in a farm the database takes every worker's writes.
 constexpr double kProgressInterval = 0.1;
+// While the job database is unreachable a worker keeps its job: the solve goes on, and the
+// store is tried again after a backoff that doubles from the first to the last of these.
+constexpr double kFirstBackoff = 0.25, kLastBackoff = 4;
 
 }  // namespace
 
@@ -42,8 +47,17 @@ class JobRunner::Attempt {
   // A refinement step: progress to the store, and a draft preview while previews have
   // taken less than their share of the time. False stops the solve.
   bool step(const Snapshot& snap, const Solution& partial);
-  // A step renews the lease; a step with a preview stores it and wakes the watchers.
+  // A step renews the lease; a step with a preview stores it and wakes the watchers. While
+  // the database is unreachable, steps wait out the backoff and the solve goes on.
   void report(const std::string& png);
+  void renew(const std::string& png);
+  // Writes the job's end (`write` calls the store), trying again after each backoff while
+  // the database is unreachable, until it lands or the worker shuts down (the job then
+  // waits for its lease to run out, as it would for a worker that vanished).
+  template <typename Write>
+  void until_stored(Write write);
+  void store_lost(const StoreUnavailable& e);
+  void store_back();
   // A stopped job ends cancelled (DELETE), released (shutdown) or failed (time limit).
   void stopped(const SolveStats& stats);
   // The final image, the solution file and the record, done.
@@ -60,6 +74,9 @@ class JobRunner::Attempt {
   Clock::time_point started_ = Clock::now(), last_step_ = started_, last_write_ = started_;
   int last_shots_ = 0;
   double drafts_s_ = 0;  // inside the solve's wall time, reported apart
+  bool store_down_ = false;
+  Clock::time_point retry_at_;
+  double backoff_s_ = kFirstBackoff;
 };
 
 void JobRunner::run(const std::string& worker, const Claim& claim, std::stop_source stop,
@@ -85,7 +102,7 @@ void JobRunner::Attempt::run(const std::string& scene_json) {
     if (lease_lost_) return;
     record_.state = JobState::Failed;
     record_.error = e.what();
-    runner_.store_.finish(worker_, record_, nullptr);
+    until_stored([&] { runner_.store_.finish(worker_, record_, nullptr); });
   }
 }
 
@@ -113,8 +130,19 @@ bool JobRunner::Attempt::step(const Snapshot& snap, const Solution& partial) {
 
 void JobRunner::Attempt::report(const std::string& png) {
   if (png.empty() && seconds_since(last_write_) < kProgressInterval) return;
+  if (store_down_ && Clock::now() < retry_at_) return;
   last_write_ = Clock::now();
-  switch (runner_.store_.progress(worker_, record_, png)) {
+  try {
+    renew(png);
+  } catch (const StoreUnavailable& e) {
+    store_lost(e);
+  }
+}
+
+void JobRunner::Attempt::renew(const std::string& png) {
+  const Store::Lease lease = runner_.store_.progress(worker_, record_, png);
+  store_back();
+  switch (lease) {
     case Store::Lease::Held:
       runner_.metrics_.count_lease_renewal();
       break;
@@ -131,12 +159,47 @@ void JobRunner::Attempt::report(const std::string& png) {
   }
 }
 
+template <typename Write>
+void JobRunner::Attempt::until_stored(Write write) {
+  for (;;) {
+    try {
+      write();
+      store_back();
+      return;
+    } catch (const StoreUnavailable& e) {
+      store_lost(e);
+    }
+    while (Clock::now() < retry_at_) {
+      if (reason_ == StopReason::Shutdown) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
+void JobRunner::Attempt::store_lost(const StoreUnavailable& e) {
+  if (!store_down_)
+    std::fprintf(stderr, "job %s: %s; keeping the job and trying again\n", record_.id.c_str(),
+                 e.what());
+  else
+    backoff_s_ = std::min(2 * backoff_s_, kLastBackoff);
+  store_down_ = true;
+  retry_at_ = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                 std::chrono::duration<double>(backoff_s_));
+}
+
+void JobRunner::Attempt::store_back() {
+  if (!store_down_) return;
+  std::fprintf(stderr, "job %s: the job database answers again\n", record_.id.c_str());
+  store_down_ = false;
+  backoff_s_ = kFirstBackoff;
+}
+
 void JobRunner::Attempt::stopped(const SolveStats& stats) {
   if (lease_lost_) return;
   record_.shots = stats.shots;
   record_.unshot_fraction = stats.unshot_fraction;
   if (reason_ == StopReason::Shutdown && !cancel_heard_)
-    return runner_.store_.release(worker_, record_);
+    return until_stored([&] { runner_.store_.release(worker_, record_); });
   if (deadline_.timed_out() && !cancel_heard_) {
     record_.state = JobState::Failed;
     char limit[32];
@@ -145,7 +208,7 @@ void JobRunner::Attempt::stopped(const SolveStats& stats) {
   } else {
     record_.state = JobState::Cancelled;
   }
-  runner_.store_.finish(worker_, record_, nullptr);
+  until_stored([&] { runner_.store_.finish(worker_, record_, nullptr); });
 }
 
 // The last step is the final image itself.
@@ -161,7 +224,7 @@ void JobRunner::Attempt::finish(const Scene& scene, const std::string& scene_jso
   record_.seconds_previews += seconds_since(t);
   for (std::string& w : back_face_warnings(scene, *solution.mesh, *solution.rays))
     record_.warnings.push_back(std::move(w));
-  report(results.png);
+  until_stored([&] { renew(results.png); });
   if (stop_.stop_requested()) return stopped(solution.stats);
   record_.state = JobState::Done;
   record_.elements = solution.stats.elements;
@@ -169,7 +232,7 @@ void JobRunner::Attempt::finish(const Scene& scene, const std::string& scene_jso
   record_.seconds_texture = solution.stats.seconds_texture;
   record_.estimated_error = solution.stats.estimated_error;
   record_.estimated_error_se = solution.stats.estimated_error_se;
-  runner_.store_.finish(worker_, record_, &results);
+  until_stored([&] { runner_.store_.finish(worker_, record_, &results); });
 }
 
 }  // namespace bumprad
