@@ -65,8 +65,15 @@ void Lights::group_emitters() {
         *std::lower_bound(emitters_.begin(), emitters_.end(), elements.front(),
                           [](const Emitter& a, std::uint32_t i) { return a.element < i; });
     auto add = [&](std::vector<std::uint32_t> members, std::vector<Vec3> outline) {
-      Group g{std::move(outline), std::move(members), {},      em.emission, em.weight,
-              first.centroid,     first.normal,       Vec3(0), 0,           false};
+      Group g{std::move(outline),
+              std::move(members),
+              {},
+              em.emission,
+              em.weight,
+              first.centroid,
+              first.normal,
+              Vec3(0),
+              0};
       double area = 0;
       for (std::uint32_t i : g.elements) {
         g.cumulative.push_back(area += mesh_.elements[i].area);
@@ -75,11 +82,6 @@ void Lights::group_emitters() {
       g.centre /= area;
       for (double& c : g.cumulative) c /= area;
       for (const Vec3& c : g.outline) g.radius = std::max(g.radius, glm::length(c - g.centre));
-      g.convex_quad = g.outline.size() == 4;
-      for (std::size_t k = 0; k < g.outline.size() && g.convex_quad; ++k) {
-        const Vec3 &a = g.outline[k], &b = g.outline[(k + 1) % 4], &c = g.outline[(k + 2) % 4];
-        g.convex_quad = glm::dot(glm::cross(b - a, c - b), g.normal) > 0;
-      }
       groups_.push_back(std::move(g));
     };
     std::vector<Vec3> outline = planar_outline(elements);
@@ -264,10 +266,9 @@ double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distan
 }
 
 // The emitters and their images that x sees in front of both planes, with their exact
-// unoccluded F: a group whole (a convex quad always: its rays each take a cell of it with
-// the cell's own F), or near it (within kGroupReach of its radius) element by element,
-// because shadow rays picked by area weigh a group's parts by area rather than by their
-// form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
+// unoccluded F: a group whole, or near it (within kGroupReach of its radius) element by
+// element, because shadow rays picked by area weigh a group's parts by area rather than by
+// their form factors (whole, 1 m under a 1 m lamp half in shadow came out 2 % too dark).
 // Returns the sum of their shares.
 double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const {
   static constexpr double kWhole = 1;
@@ -289,15 +290,13 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
     const double f = point_to_polygon(x, normal, corners);
     if (!(f > 0)) return;
     const double share = f * g.weight * (mirror ? mirror->specular : 1);
-    seen.push_back({elements, cumulative, &g, mirror, f, share,
-                    g.convex_quad && elements.size() == g.elements.size()});
+    seen.push_back({elements, cumulative, &g, mirror, f, share});
     total += share;
   };
   std::array<Vec3, 4> storage;
   auto consider_group = [&](const Group& g, const Mirror* mirror) {
     const Vec3 centre = mirror ? mirror->reflect(g.centre) : g.centre;
-    if (g.convex_quad || g.elements.size() == 1 ||
-        glm::length(x - centre) > kGroupReach * g.radius) {
+    if (g.elements.size() == 1 || glm::length(x - centre) > kGroupReach * g.radius) {
       consider(g, g.elements, g.cumulative, g.outline, mirror);
       return;
     }
@@ -337,38 +336,6 @@ bool Lights::arrives(const Seen& s, const Vec3& from, const Vec3& geometric, con
   return visible_through(*s.mirror, from, from + d * distance, rays);
 }
 
-// A convex quad's light on x from `rays` shadow rays: the quad cut into a grid of as many
-// cells (as near square as the count allows), one ray to a random point of each, and each
-// cell that ray reaches adding its own exact F. Cells are small, so weighing a cell's points
-// by area rather than by form factor costs nothing, and a penumbra's noise is that of the
-// cells its edge crosses alone.
-double Lights::quad_cells(const Seen& s, const Vec3& x, const Vec3& normal, const Vec3& from,
-                          const Vec3& geometric, const RayScene& rays, int count,
-                          Random& random) const {
-  int across = int(std::sqrt(double(count)));
-  while (count % across) --across;
-  const int down = count / across;
-  const auto& c = s.group->outline;
-  auto at = [&](double u, double v) {
-    return (1 - v) * ((1 - u) * c[0] + u * c[1]) + v * ((1 - u) * c[3] + u * c[2]);
-  };
-  std::array<Vec3, 4> cell;
-  double f = 0;
-  for (int i = 0; i < across; ++i)
-    for (int j = 0; j < down; ++j) {
-      const double u0 = double(i) / across, u1 = double(i + 1) / across;
-      const double v0 = double(j) / down, v1 = double(j + 1) / down;
-      cell = {at(u0, v0), at(u1, v0), at(u1, v1), at(u0, v1)};
-      if (s.mirror)
-        for (Vec3& p : cell) p = s.mirror->reflect(p);
-      const double f_cell = point_to_polygon(x, normal, cell);
-      if (!(f_cell > 0)) continue;
-      const double u = u0 + random.next() * (u1 - u0);
-      if (arrives(s, from, geometric, at(u, v0 + random.next() * (v1 - v0)), rays)) f += f_cell;
-    }
-  return f;
-}
-
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
                    int shadow_rays, Random& random) const {
   const Vec3 from = x + geometric * epsilon_;
@@ -386,23 +353,17 @@ Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, con
   const int n = std::max(1, shadow_rays);
   Rgb sum(0);
   if (seen.size() <= std::size_t(n)) {
-    // Few: each gets its own rays, so one seen whole adds exactly (k_s) E F: a convex quad
-    // by cells, anything else by the share of rays to stratified points of it (Sobol02)
-    // that arrive.
+    // Few: each gets its own rays, to stratified points of it (Sobol02 over its elements by
+    // area), so one seen whole adds exactly (k_s) E F.
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
-      double f = 0;
-      if (s.by_cells) {
-        f = quad_cells(s, x, normal, from, geometric, rays, each, random);
-      } else {
-        const Sobol02 points(random);
-        int hits = 0;
-        for (int r = 0; r < each; ++r) {
-          const auto [u, v] = points[std::uint32_t(r)];
-          hits += arrives(s, from, geometric, point_on(s, u, v), rays);
-        }
-        f = s.form_factor * hits / each;
+      const Sobol02 points(random);
+      int hits = 0;
+      for (int r = 0; r < each; ++r) {
+        const auto [u, v] = points[std::uint32_t(r)];
+        hits += arrives(s, from, geometric, point_on(s, u, v), rays);
       }
+      const double f = s.form_factor * hits / each;
       sum += s.group->emission * (f * specular(s));
     }
     return sum;

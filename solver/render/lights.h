@@ -42,11 +42,10 @@ class Lights {
   // plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact (Lambert, clipped
   // to the plane of `normal`, which may be a perturbed N'); V, the visible share (through
   // the mirror, for an image), comes from `shadow_rays` rays spread over the emitters and
-  // images by their contribution, to stratified points of each (a rectangular lamp: one ray
-  // to each cell of a grid, each cell with its own exact F), so a point that sees them fully
-  // gets the exact value without noise, and a penumbra's noise is that of the cells its
-  // shadow's edge crosses. Rays leave along `geometric` (the element's own normal); light below it
-  // is hidden.
+  // images by their contribution, to stratified points of them (a scrambled (0,2)-sequence
+  // over their elements by area), so a point that sees them fully gets the exact value
+  // without noise, and penumbrae are smoother than from independent points. Rays leave along
+  // `geometric` (the element's own normal); light below it is hidden.
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              int shadow_rays, Random& random) const;
 
@@ -97,9 +96,8 @@ class Lights {
     Rgb emission;
     double weight;  // channel sum of E
     Vec3 point, normal;
-    Vec3 centre;       // of area
-    double radius;     // the farthest outline corner from the centre
-    bool convex_quad;  // an outline of 4 corners, convex: shadow rays go to cells of it
+    Vec3 centre;    // of area
+    double radius;  // the farthest outline corner from the centre
   };
   struct Mirror {
     std::uint32_t surface;
@@ -117,16 +115,12 @@ class Lights {
     const Group* group;
     const Mirror* mirror;  // null: the emitter itself
     double form_factor;
-    double share;   // k_s E F, channel sum: how many rays it gets
-    bool by_cells;  // a convex quad whole: quad_cells()
+    double share;  // k_s E F, channel sum: how many rays it gets
   };
   double seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const;
   Vec3 point_on(const Seen& s, double u, double v) const;
   bool arrives(const Seen& s, const Vec3& from, const Vec3& geometric, const Vec3& y,
                const RayScene& rays) const;
-  // F of the parts of a convex quad that `count` shadow rays find visible.
-  double quad_cells(const Seen& s, const Vec3& x, const Vec3& normal, const Vec3& from,
-                    const Vec3& geometric, const RayScene& rays, int count, Random& random) const;
   void group_emitters();
   // The outline of coplanar elements that make one simple region (corners only), or empty.
   std::vector<Vec3> planar_outline(std::span<const std::uint32_t> elements) const;
