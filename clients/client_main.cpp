@@ -28,8 +28,10 @@ constexpr const char* kUsage =
     "         [--watch] [--out DIR]   prints the job id; --watch saves each preview to\n"
     "                                 DIR/ID-step-N.png as it arrives, then DIR/ID.png\n"
     "                                 (on a terminal it draws a progress bar)\n"
+    "  list                           every job the server keeps, one a line\n"
     "  status ID                      the job as JSON\n"
     "  image ID -o OUT.(png|exr)      the final image\n"
+    "  solution ID -o OUT.json        a done job's solution file (for bumprad retexture)\n"
     "  retexture ID --bump B.json -o OUT.(png|exr|jpg)   re-render with new bump functions\n"
     "  cancel ID                      cancel a queued or running job, or delete a finished one\n"
     "The server defaults to $BUMPRAD_SERVER, else http://127.0.0.1:8080.\n";
@@ -160,6 +162,23 @@ int run(const std::string& server, const std::vector<std::string>& argv) {
     auto path = std::filesystem::path(a.out_dir) / (id + ".png");
     save(path, expect(client.get(job_url(id) + "/image"), 200).body);
     std::printf("done -> %s\n", path.c_str());
+    return 0;
+  }
+  if (command == "list") {
+    if (!a.positional.empty()) throw UsageError("list takes no arguments");
+    const auto jobs = jobs_from_json(expect(client.get("/v1/jobs"), 200).body);
+    std::printf("%-16s  %-11s  %7s  %7s  %s\n", "ID", "STATE", "SHOTS", "UNSHOT", "SCENE");
+    for (const JobRecord& j : jobs)
+      std::printf("%-16s  %-11s  %7d  %6.2f%%  %s\n", j.id.c_str(),
+                  std::string(to_string(j.state)).c_str(), j.shots, 100 * j.unshot_fraction,
+                  j.scene_name.c_str());
+    return 0;
+  }
+  if (command == "solution") {
+    std::string id = id_arg();
+    if (a.output.empty()) throw UsageError("solution needs -o OUT.json");
+    save(a.output, expect(client.get(job_url(id) + "/solution"), 200).body);
+    std::printf("wrote %s\n", a.output.c_str());
     return 0;
   }
   if (command == "status") {

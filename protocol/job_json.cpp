@@ -92,6 +92,16 @@ std::string jobs_to_json(const std::vector<JobRecord>& jobs) {
   return json{{"jobs", list}}.dump();
 }
 
+std::vector<JobRecord> jobs_from_json(std::string_view text) {
+  const json d = parse_json(text);
+  const auto list = d.find("jobs");
+  if (!d.is_object() || list == d.end() || !list->is_array())
+    throw MalformedJson("a job list is an object with a \"jobs\" array");
+  std::vector<JobRecord> jobs;
+  for (const json& j : *list) jobs.push_back(job_from_json(j.dump()));
+  return jobs;
+}
+
 JobRecord job_from_json(std::string_view text) {
   // Through Node like a request: a record is data from disk, and a number out of range
   // must be an error, not a conversion with undefined behaviour.

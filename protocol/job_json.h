@@ -50,6 +50,8 @@ std::string job_to_json(const JobRecord& job);
 JobRecord job_from_json(std::string_view text);
 // A JSON array of jobs, for GET /v1/jobs.
 std::string jobs_to_json(const std::vector<JobRecord>& jobs);
+// The list GET /v1/jobs answers; throws as job_from_json does.
+std::vector<JobRecord> jobs_from_json(std::string_view text);
 
 // One refinement step, for the event stream: its number, progress and preview URL.
 std::string step_event_json(const JobRecord& job);

@@ -1,5 +1,6 @@
 // bumprad-client against the real server: submit --watch saves every preview and the final
-// image, then image, retexture, status and cancel; failures say what went wrong.
+// image, then image, retexture, status, list, solution (which bumprad retexture reads) and
+// cancel; failures say what went wrong.
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -67,6 +68,15 @@ TEST_F(BumpradClient, SubmitWatchImageRetextureCancel) {
 
   auto status = client("status " + id);
   EXPECT_EQ(json::parse(status.output)["state"], "done");
+  auto list = client("list");
+  EXPECT_EQ(list.exit_code, 0) << list.output;
+  EXPECT_NE(list.output.find(id + "  done"), std::string::npos) << list.output;
+  auto solution = client("solution " + id + " -o " + path("solution.json"));
+  EXPECT_EQ(solution.exit_code, 0) << solution.output;
+  auto local = test::run_command(std::string(BUMPRAD_BIN) + " retexture " + path("solution.json") +
+                                 " -o " + path("local.png"));
+  EXPECT_EQ(local.exit_code, 0) << local.output;
+  EXPECT_EQ(read_image(path("local.png")).width, 64);
   auto deleted = client("cancel " + id);
   EXPECT_EQ(deleted.output, "deleted\n");
   auto gone = client("status " + id);
