@@ -10,8 +10,9 @@
 // differ as PREFIX-difference.png (red: bumprad brighter, blue: darker, full at 20 %).
 // A reference from another renderer (scripts/cycles.sh: Cycles) is read from REF.exr; with
 // --noise-reference REF2.exr, the same render at another seed, its own noise is measured from
-// the two rather than estimated from the path tracer's curve. --width W renders at W pixels
-// across (the camera's aspect kept), to match a reference of that size.
+// the two rather than estimated from the path tracer's curve (--no-path-tracer skips the
+// curve). --width W renders at W pixels across (the camera's aspect kept), to match a
+// reference of that size.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,18 +34,20 @@
 
 constexpr const char* kUsage =
     "usage: bumprad-bench-truth SCENE [--spp N] [--reference REF.exr] [--noise-reference "
-    "REF2.exr] [--width W]\n";
+    "REF2.exr] [--width W] [--no-path-tracer]\n";
 
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source, cache, second;
   int spp = 1024, width = 0;
+  bool skip_curve = false;
   std::vector<std::string> positional;
   ArgParser()
       .integer({"--spp"}, spp, 1, 1 << 24)
       .text({"--reference"}, cache)
       .text({"--noise-reference"}, second)
       .integer({"--width"}, width, 8, 8192)
+      .toggle({"--no-path-tracer"}, skip_curve)
       .positional(positional, 1)
       .parse_or_exit(argc, argv, kUsage);
   if (positional.empty()) {
@@ -105,9 +108,10 @@ int main(int argc, char** argv) {
     // noise_n = 2 noise_ref (noise falls as 1/sqrt(n)): so noise_ref = that error / sqrt(5).
     // bumprad's image does not share the reference's noise, so its own error is
     // sqrt(measured^2 - noise_ref^2).
-    std::printf("path tracer (seed 2), lit surfaces and all pixels:\n");
+    const bool curve = !skip_curve;
     double at_quarter = 0;
-    for (int n = 1; n <= spp / 4; n *= 4) {
+    if (curve) std::printf("path tracer (seed 2), lit surfaces and all pixels:\n");
+    for (int n = 1; curve && n <= spp / 4; n *= 4) {
       t = Clock::now();
       Image traced = render_reference(scene, mesh, rays, {n, 2});
       const double s = seconds_since(t);

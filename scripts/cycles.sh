@@ -41,5 +41,5 @@ BUMPRAD_TRUTH_IMAGES="$out/lambert" build/bin/bumprad-bench-truth "$out/room.glb
   --width "$size" --spp 1024 --reference "$out/cycles-lambert-1.exr" \
   --noise-reference "$out/cycles-lambert-2.exr"
 echo "against Cycles with its Principled BSDF (a dielectric's specular coat, Disney diffuse):"
-build/bin/bumprad-bench-truth "$out/room.glb" --width "$size" --spp 4 \
+build/bin/bumprad-bench-truth "$out/room.glb" --width "$size" --no-path-tracer \
   --reference "$out/cycles-principled-1.exr"
