@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed against accuracy: runs bumprad-bench-accuracy (about 12 minutes on 2 cores) and
+# Speed against accuracy: runs bumprad-bench-accuracy (about 15 minutes on 2 cores) and
 # draws docs/speed-accuracy.png from docs/speed-accuracy.csv with gnuplot.
 #   scripts/chart.sh            sweep, then draw
 #   scripts/chart.sh --draw     draw the CSV already in docs/
