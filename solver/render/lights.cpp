@@ -15,6 +15,17 @@
 namespace bumprad {
 namespace {
 
+// The part of a running sum `cumulative` (increasing, its last entry the whole) that t falls
+// in, and where in it, from 0 to 1: how one number picks an element by area, or a source by
+// its share, and goes on to place a point in it.
+std::pair<std::size_t, double> pick(std::span<const double> cumulative, double t) {
+  const std::size_t k = std::min(
+      std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), t) - cumulative.begin()),
+      cumulative.size() - 1);
+  const double below = k > 0 ? cumulative[k - 1] : 0;
+  return {k, std::clamp((t - below) / (cumulative[k] - below), 0.0, 1.0)};
+}
+
 // direct() takes an emitter group whole from this many times its radius away, element by
 // element nearer.
 constexpr double kGroupReach = 8;
@@ -314,15 +325,8 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
 // A point of what `s` sees for (u, v) in [0,1)^2, uniform by area: u picks an element by
 // area and, rescaled, goes on to place the point in it.
 Vec3 Lights::point_on(const Seen& s, double u, double v) const {
-  std::size_t pick = 0;
-  if (s.elements.size() > 1) {
-    pick = std::min(std::size_t(std::upper_bound(s.cumulative.begin(), s.cumulative.end(), u) -
-                                s.cumulative.begin()),
-                    s.elements.size() - 1);
-    const double below = pick > 0 ? s.cumulative[pick - 1] : 0;
-    u = std::clamp((u - below) / (s.cumulative[pick] - below), 0.0, 1.0);
-  }
-  return point_on(mesh_.elements[s.elements[pick]], u, v);
+  const auto [k, rest] = pick(s.cumulative, u);
+  return point_on(mesh_.elements[s.elements[k]], rest, v);
 }
 
 // A shadow ray from `from` to the emitter point y (through the mirror, to y's image).
@@ -377,13 +381,10 @@ Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, con
   const Sobol02 points(random);
   const double step = total / n;
   for (int r = 0; r < n; ++r) {
-    auto [u, v] = points[std::uint32_t(r)];
-    const std::size_t k = std::min(
-        std::size_t(std::upper_bound(reached.begin(), reached.end(), u * total) - reached.begin()),
-        seen.size() - 1);
+    const auto [u, v] = points[std::uint32_t(r)];
+    const auto [k, rest] = pick(reached, u * total);
     const Seen& s = seen[k];
-    u = std::clamp((u * total - (reached[k] - s.share)) / s.share, 0.0, 1.0);
-    if (arrives(s, from, geometric, point_on(s, u, v), rays))
+    if (arrives(s, from, geometric, point_on(s, rest, v), rays))
       sum += s.group->emission * (s.form_factor * specular(s) * step / s.share);
   }
   return sum;
