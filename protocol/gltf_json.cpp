@@ -10,9 +10,9 @@
 namespace bumprad {
 namespace {
 
-std::uint32_t little_endian_u32(const std::string& bytes, std::size_t at) {
+std::uint32_t little_endian_u32(const char* bytes) {
   std::uint32_t v = 0;
-  for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(bytes[at + std::size_t(k)]);
+  for (int k = 3; k >= 0; --k) v = (v << 8) | std::uint8_t(bytes[k]);
   return v;
 }
 
@@ -25,16 +25,24 @@ bool is_gltf_file(const std::filesystem::path& file) {
 
 nlohmann::json read_gltf_json(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  const std::string bytes{std::istreambuf_iterator<char>(in), {}};
-  if (!in && !in.eof()) throw std::runtime_error("cannot be read");
-  std::string text = bytes;
-  if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
-    // GLB: a 12-byte header, then the first chunk (length, type "JSON", data).
-    if (bytes.size() < 20 || little_endian_u32(bytes, 16) != 0x4E4F534Au ||
-        little_endian_u32(bytes, 12) > bytes.size() - 20)
+  if (!in) throw std::runtime_error("cannot be read");
+  // A GLB is a 12-byte header, then its first chunk (length, type "JSON", data): only that
+  // is read, not the binary buffers after it, which Assimp has read already.
+  char header[20] = {};
+  in.read(header, sizeof header);
+  std::string text;
+  if (in.gcount() >= 4 && std::memcmp(header, "glTF", 4) == 0) {
+    const std::uint32_t length = little_endian_u32(header + 12);
+    if (in.gcount() < 20 || little_endian_u32(header + 16) != 0x4E4F534Au ||
+        length > std::filesystem::file_size(file) - 20)
       throw std::runtime_error("a glTF binary whose first chunk is not its JSON");
-    text = bytes.substr(20, little_endian_u32(bytes, 12));
+    text.resize(length);
+    in.read(text.data(), std::streamsize(length));
+  } else {
+    text.assign(header, std::size_t(in.gcount()));
+    text.append(std::istreambuf_iterator<char>(in), {});
   }
+  if (in.bad()) throw std::runtime_error("cannot be read");
   nlohmann::json json = nlohmann::json::parse(text, nullptr, false);
   if (json.is_discarded() || !json.is_object())
     throw std::runtime_error("its glTF JSON does not parse");
