@@ -108,10 +108,9 @@ int main(int argc, char** argv) {
     // noise_n = 2 noise_ref (noise falls as 1/sqrt(n)): so noise_ref = that error / sqrt(5).
     // bumprad's image does not share the reference's noise, so its own error is
     // sqrt(measured^2 - noise_ref^2).
-    const bool curve = !skip_curve;
     double at_quarter = 0;
-    if (curve) std::printf("path tracer (seed 2), lit surfaces and all pixels:\n");
-    for (int n = 1; curve && n <= spp / 4; n *= 4) {
+    if (!skip_curve) std::printf("path tracer (seed 2), lit surfaces and all pixels:\n");
+    for (int n = 1; !skip_curve && n <= spp / 4; n *= 4) {
       t = Clock::now();
       Image traced = render_reference(scene, mesh, rays, {n, 2});
       const double s = seconds_since(t);
