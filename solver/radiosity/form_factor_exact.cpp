@@ -76,6 +76,23 @@ double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const V
   return std::abs(sum) / (2 * std::numbers::pi);
 }
 
+Vec3 polygon_vector(const Vec3& point, std::span<const Vec3> polygon) {
+  // Lambert's sum before the normal's dot product: each edge's angle times the unit normal
+  // of the plane through it and the point.
+  Vec3 sum(0);
+  for (std::size_t i = 0; i < polygon.size(); ++i) {
+    const Vec3 a = polygon[i] - point, b = polygon[(i + 1) % polygon.size()] - point;
+    const Vec3 c = glm::cross(a, b);
+    const double len = glm::length(c);
+    if (len > 0) sum += c * (angle(len, glm::dot(a, b)) / len);
+  }
+  // The winding gives the sign: the vector points to the polygon's side of the point, as
+  // every direction to the polygon does (taken across the polygon's plane).
+  const Vec3 plane = glm::cross(polygon[1] - polygon[0], polygon[2] - polygon[0]);
+  if ((glm::dot(sum, plane) < 0) != (glm::dot(polygon[0] - point, plane) < 0)) sum = -sum;
+  return sum / (2 * std::numbers::pi);
+}
+
 double parallel_rectangles(double a, double b, double c) {
   double x = a / c, y = b / c;
   double x1 = std::sqrt(1 + x * x), y1 = std::sqrt(1 + y * y);

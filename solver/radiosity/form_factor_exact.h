@@ -13,6 +13,11 @@ namespace bumprad {
 // normal is allowed, so this is also the exact perturbed form factor at any tilt.
 double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon);
 
+// The polygon's vector form factor at `point` (Arvo 1994's irradiance vector over pi): for
+// every unit normal N whose plane leaves the whole polygon in front, point_to_polygon(point,
+// N, polygon) = N . polygon_vector(point, polygon), so one vector answers for all such N.
+Vec3 polygon_vector(const Vec3& point, std::span<const Vec3> polygon);
+
 // atan2(y, x) for y >= 0 (the angle between two vectors from |a x b| and a . b), within
 // 1e-15: Cephes' rational approximation of atan. Lambert's formula takes one per edge, and
 // glibc's atan2, which switches the rounding mode on every call, was a fifth of the view

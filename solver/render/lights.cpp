@@ -340,25 +340,16 @@ bool Lights::arrives(const Seen& s, const Vec3& from, const Vec3& geometric, con
   return visible_through(*s.mirror, from, from + d * distance, rays);
 }
 
-Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
-                   int shadow_rays, Random& random) const {
-  const Vec3 from = x + geometric * epsilon_;
-  return punctual_direct(x, normal, from, rays) +
-         area_direct(x, normal, from, geometric, rays, shadow_rays, random);
-}
-
-Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, const Vec3& geometric,
-                        const RayScene& rays, int shadow_rays, Random& random) const {
+void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, const RayScene& rays,
+                     int shadow_rays, Random& random, std::vector<Visible>& out) const {
   thread_local std::vector<Seen> seen;
-  const double total = seen_from(x, normal, seen);
-  if (seen.empty()) return Rgb(0);
-
-  auto specular = [](const Seen& s) { return s.mirror ? s.mirror->specular : 1; };
+  out.clear();
+  const double total = seen_from(x, geometric, seen);
+  if (seen.empty()) return;
   const int n = std::max(1, shadow_rays);
-  Rgb sum(0);
   if (seen.size() <= std::size_t(n)) {
     // Few: each gets its own rays, to stratified points of it (Sobol02 over its elements by
-    // area), so one seen whole adds exactly (k_s) E F.
+    // area), so one seen whole is wholly visible.
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
       const Sobol02 points(random);
@@ -367,27 +358,105 @@ Rgb Lights::area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, con
         const auto [u, v] = points[std::uint32_t(r)];
         hits += arrives(s, from, geometric, point_on(s, u, v), rays);
       }
-      const double f = s.form_factor * hits / each;
-      sum += s.group->emission * (f * specular(s));
+      if (hits > 0) out.push_back({s, double(hits) / each});
     }
-    return sum;
+    return;
   }
   // Many: n rays stratified over them by contribution (the first coordinate runs along
-  // their shares, then on within the one it falls in); each ray that arrives adds its
-  // source's (k_s) E F divided by the chance it was chosen.
+  // their shares, then on within the one it falls in); each ray that arrives adds the step
+  // over its source's share, the chance it was chosen, to the source's visible share.
   thread_local std::vector<double> reached;
+  thread_local std::vector<std::size_t> slot;
   reached.clear();
   for (const Seen& s : seen) reached.push_back((reached.empty() ? 0 : reached.back()) + s.share);
+  slot.assign(seen.size(), std::size_t(-1));
   const Sobol02 points(random);
   const double step = total / n;
   for (int r = 0; r < n; ++r) {
     const auto [u, v] = points[std::uint32_t(r)];
     const auto [k, rest] = pick(reached, u * total);
     const Seen& s = seen[k];
-    if (arrives(s, from, geometric, point_on(s, rest, v), rays))
-      sum += s.group->emission * (s.form_factor * specular(s) * step / s.share);
+    if (!arrives(s, from, geometric, point_on(s, rest, v), rays)) continue;
+    if (slot[k] == std::size_t(-1)) {
+      slot[k] = out.size();
+      out.push_back({s, 0});
+    }
+    out[slot[k]].share += step / s.share;
+  }
+}
+
+std::span<const Vec3> Lights::polygon(const Seen& s, std::vector<Vec3>& storage) const {
+  if (s.elements.size() == s.group->elements.size()) {
+    storage.assign(s.group->outline.begin(), s.group->outline.end());
+  } else {
+    std::array<Vec3, 4> corners;
+    const auto c = element_corners(mesh_, mesh_.elements[s.elements.front()], corners);
+    storage.assign(c.begin(), c.end());
+  }
+  if (s.mirror)
+    for (Vec3& c : storage) c = s.mirror->reflect(c);
+  return storage;
+}
+
+Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
+                   int shadow_rays, Random& random) const {
+  const Vec3 from = x + geometric * epsilon_;
+  Rgb sum(0);
+  for (const PunctualLight& l : punctual_) {
+    const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
+    sum += a.irradiance * std::max(0.0, glm::dot(normal, a.toward));
+  }
+  thread_local std::vector<Visible> seen;
+  thread_local std::vector<Vec3> corners;
+  visible(x, from, geometric, rays, shadow_rays, random, seen);
+  for (const Visible& v : seen) {
+    // The shares were judged by the geometric plane; on a flat surface unbumped F is theirs.
+    const double f = normal == geometric ? v.seen.form_factor
+                                         : point_to_polygon(x, normal, polygon(v.seen, corners));
+    sum += v.seen.group->emission * (f * v.share * (v.seen.mirror ? v.seen.mirror->specular : 1));
   }
   return sum;
+}
+
+DirectForm Lights::direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
+                               int shadow_rays, Random& random) const {
+  const Vec3 from = x + geometric * epsilon_;
+  DirectForm form;
+  thread_local std::vector<Vec3> toward;  // unit directions to everything seen
+  toward.clear();
+  auto add = [&](const Rgb& weight, const Vec3& vector) {
+    for (int c = 0; c < 3; ++c) form.rows[std::size_t(c)] += glm::vec3(weight[c] * vector);
+  };
+  for (const PunctualLight& l : punctual_) {
+    const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
+    if (a.irradiance == Rgb(0)) continue;
+    add(a.irradiance, a.toward);
+    toward.push_back(a.toward);
+  }
+  thread_local std::vector<Visible> seen;
+  thread_local std::vector<Vec3> corners;
+  visible(x, from, geometric, rays, shadow_rays, random, seen);
+  for (const Visible& v : seen) {
+    const std::span<const Vec3> p = polygon(v.seen, corners);
+    add(v.seen.group->emission * (v.share * (v.seen.mirror ? v.seen.mirror->specular : 1)),
+        polygon_vector(x, p));
+    for (const Vec3& c : p) toward.push_back(glm::normalize(c - x));
+  }
+  if (toward.empty()) return form;
+  Vec3 axis(0);
+  for (const Vec3& d : toward) axis += d;
+  if (!(glm::length(axis) > 0)) {
+    form.reach = 2;
+    return form;
+  }
+  axis = glm::normalize(axis);
+  double cosine = 1;  // of the cone's half-angle
+  for (const Vec3& d : toward) cosine = std::min(cosine, glm::dot(axis, d));
+  form.axis = glm::vec3(axis);
+  // A little wider than the corners' cone, so that single precision never lets through an N
+  // whose plane cuts a source.
+  form.reach = cosine > 1e-3 ? float(std::sqrt(1 - cosine * cosine) + 1e-5) : 2.0f;
+  return form;
 }
 
 }  // namespace bumprad

@@ -5,6 +5,7 @@
 // Greenberg 1987), so light reflected once by a flat mirror is as exact as direct light.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -21,6 +22,24 @@
 
 namespace bumprad {
 
+// The direct light at one point for any shading normal N (a bump's N'), from what its shadow
+// rays found, which no normal changes: the sum over the sources seen of (k_s) E V F(N). While
+// N's plane leaves every source wholly in front, each F(N) is N . polygon_vector() and the
+// sum one linear map of N: at() applies it where covers() holds. Single precision: the view
+// pass keeps one for every bumpy sample of an image.
+struct DirectForm {
+  std::array<glm::vec3, 3> rows{glm::vec3(0), glm::vec3(0), glm::vec3(0)};  // R, G, B
+  // Every direction to a source lies in the cone about `axis` whose half-angle has sine
+  // `reach`: N covers them all when N . axis > reach (2: a cone too wide for any N).
+  glm::vec3 axis{0, 0, 1};
+  float reach = -2;  // nothing seen: any N
+  bool covers(const Vec3& n) const { return glm::dot(glm::vec3(n), axis) > reach; }
+  Rgb at(const Vec3& n) const {
+    const glm::vec3 f(n);
+    return Rgb(glm::dot(rows[0], f), glm::dot(rows[1], f), glm::dot(rows[2], f));
+  }
+};
+
 class Lights {
  public:
   Lights(const Mesh& mesh, std::span<const Material> materials,
@@ -36,18 +55,23 @@ class Lights {
   // An emitter chosen by its power (area times E's channel sum), a point on it uniformly.
   Sample sample(Random& random) const;
 
-  // The direct irradiance at `x` from the punctual lights (exact, one shadow ray each) and
-  // the emitters' own emission, in radiosity units
-  // (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's reflectance),
-  // plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact (Lambert, clipped
-  // to the plane of `normal`, which may be a perturbed N'); V, the visible share (through
-  // the mirror, for an image), comes from `shadow_rays` rays spread over the emitters and
-  // images by their contribution, to stratified points of them (a scrambled (0,2)-sequence
-  // over their elements by area), so a point that sees them fully gets the exact value
-  // without noise, and penumbrae are smoother than from independent points. Rays leave along
-  // `geometric` (the element's own normal); light below it is hidden.
+  // The direct irradiance at `x` for shading normal `normal` (maybe a perturbed N') from the
+  // punctual lights (exact, one shadow ray each) and the emitters' own emission, in radiosity
+  // units (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's
+  // reflectance), plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact
+  // (Lambert, clipped to the plane of `normal`); V, the visible share (through the mirror,
+  // for an image), comes from `shadow_rays` rays spread over the emitters and images by their
+  // contribution to the geometric surface (`geometric`, the element's own normal: light below
+  // it is hidden, and the rays leave along it), to stratified points of them (a scrambled
+  // (0,2)-sequence over their elements by area), so a point that sees them fully gets the
+  // exact value without noise, and penumbrae are smoother than from independent points. No
+  // ray depends on `normal`: a bump changes F alone.
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              int shadow_rays, Random& random) const;
+  // The same rays' verdict kept for any normal to come (DirectForm): direct() and
+  // direct_form().at() agree for every normal the form covers.
+  DirectForm direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
+                         int shadow_rays, Random& random) const;
 
   // Next-event estimation for the path tracer, unbiased: each punctual light's irradiance
   // (deterministic), plus a point y on an emitter chosen by
@@ -77,8 +101,6 @@ class Lights {
  private:
   Rgb punctual_direct(const Vec3& x, const Vec3& normal, const Vec3& from,
                       const RayScene& rays) const;
-  Rgb area_direct(const Vec3& x, const Vec3& normal, const Vec3& from, const Vec3& geometric,
-                  const RayScene& rays, int shadow_rays, Random& random) const;
   Rgb area_next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
                       Random& random) const;
   struct Emitter {
@@ -118,6 +140,16 @@ class Lights {
     double share;  // k_s E F, channel sum: how many rays it gets
   };
   double seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const;
+  // A source seen and the share of it that shadow rays found visible (> 0).
+  struct Visible {
+    Seen seen;
+    double share;
+  };
+  // The sources seen from x's geometric plane that its shadow rays reach (direct()).
+  void visible(const Vec3& x, const Vec3& from, const Vec3& geometric, const RayScene& rays,
+               int shadow_rays, Random& random, std::vector<Visible>& out) const;
+  // The polygon of what `s` sees, reflected in its mirror for an image.
+  std::span<const Vec3> polygon(const Seen& s, std::vector<Vec3>& storage) const;
   Vec3 point_on(const Seen& s, double u, double v) const;
   bool arrives(const Seen& s, const Vec3& from, const Vec3& geometric, const Vec3& y,
                const RayScene& rays) const;

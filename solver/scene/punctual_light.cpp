@@ -24,27 +24,33 @@ double cone(const PunctualLight& l, const Vec3& toward) {
 
 }  // namespace
 
-Rgb punctual_irradiance(const PunctualLight& l, const Vec3& x, const Vec3& normal, const Vec3& from,
-                        const RayScene& rays) {
+PunctualArrival punctual_arrival(const PunctualLight& l, const Vec3& x, const Vec3& facing,
+                                 const Vec3& from, const RayScene& rays) {
   if (l.kind == PunctualLight::Kind::Directional) {
-    const double cosine = -glm::dot(normal, l.direction);
-    if (!(cosine > 0)) return Rgb(0);
+    const Vec3 toward = -l.direction;
+    if (!(glm::dot(facing, toward) > 0)) return {toward, Rgb(0)};
     // Anything on the way toward the light, however far, shades the point.
-    if (rays.occluded({from, -l.direction}, std::numeric_limits<double>::infinity())) return Rgb(0);
-    return l.intensity * cosine;
+    if (rays.occluded({from, toward}, std::numeric_limits<double>::infinity()))
+      return {toward, Rgb(0)};
+    return {toward, l.intensity};
   }
   Vec3 d = l.position - x;
   const double r2 = glm::dot(d, d);
-  if (!(r2 > 0)) return Rgb(0);
+  if (!(r2 > 0)) return {facing, Rgb(0)};
   d /= std::sqrt(r2);
-  const double cosine = glm::dot(normal, d);
-  if (!(cosine > 0)) return Rgb(0);
+  if (!(glm::dot(facing, d) > 0)) return {d, Rgb(0)};
   const double falloff = l.kind == PunctualLight::Kind::Spot ? cone(l, -d) : 1.0;
-  if (!(falloff > 0)) return Rgb(0);
+  if (!(falloff > 0)) return {d, Rgb(0)};
   const Vec3 to = l.position - from;
   const double distance = glm::length(to);
-  if (rays.occluded({from, to / distance}, distance)) return Rgb(0);
-  return l.intensity * (falloff * cosine / r2);
+  if (rays.occluded({from, to / distance}, distance)) return {d, Rgb(0)};
+  return {d, l.intensity * (falloff / r2)};
+}
+
+Rgb punctual_irradiance(const PunctualLight& l, const Vec3& x, const Vec3& normal, const Vec3& from,
+                        const RayScene& rays) {
+  const PunctualArrival a = punctual_arrival(l, x, normal, from, rays);
+  return a.irradiance * std::max(0.0, glm::dot(normal, a.toward));
 }
 
 Rgb punctual_power(const PunctualLight& l) {

@@ -15,6 +15,16 @@ namespace bumprad {
 Rgb punctual_irradiance(const PunctualLight& light, const Vec3& x, const Vec3& normal,
                         const Vec3& from, const RayScene& rays);
 
+// The same before the cosine, for a point whose shading normal is not yet known (a bump's
+// N' to come): the unit direction toward the light and the irradiance on a surface facing
+// it, 0 when the light is behind `facing`'s plane (the geometric surface) or shadowed.
+struct PunctualArrival {
+  Vec3 toward;
+  Rgb irradiance;
+};
+PunctualArrival punctual_arrival(const PunctualLight& light, const Vec3& x, const Vec3& facing,
+                                 const Vec3& from, const RayScene& rays);
+
 // The power a point or spot light sends out (4 pi I; a spot, I over its cone: 2 pi I (1 -
 // cos outer)), the energy ledger's emitted; a directional light's is what the scene
 // intercepts, so this returns 0 for one.

@@ -58,6 +58,32 @@ TEST(FormFactorExact, LambertIsIndependentOfWinding) {
               point_to_polygon(Vec3(0.1, 0, 0), n, reversed), 1e-14);
 }
 
+// Lambert's formula is linear in the normal while the polygon stays wholly in front of it:
+// one vector then gives the form factor for every such normal (either winding), to rounding.
+TEST(FormFactorExact, TheVectorFormFactorGivesLambertForEveryNormalInFront) {
+  auto square = test::rectangle_facing_down(2, 1, 0.7);
+  std::array<Vec3, 4> reversed = {square[3], square[2], square[1], square[0]};
+  const Vec3 x(0.3, -0.1, 0);
+  const Vec3 phi = polygon_vector(x, square);
+  EXPECT_NEAR(glm::length(phi - polygon_vector(x, reversed)), 0, 1e-15);
+  Random random(11);
+  int tried = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const Vec3 n =
+        glm::normalize(Vec3(2 * random.next() - 1, 2 * random.next() - 1, 2 * random.next() - 1));
+    if (!std::all_of(square.begin(), square.end(),
+                     [&](const Vec3& c) { return glm::dot(n, c - x) > 0; }))
+      continue;
+    ++tried;
+    EXPECT_NEAR(glm::dot(n, phi), point_to_polygon(x, n, square), 1e-14);
+  }
+  EXPECT_GT(tried, 100);
+  // A normal whose plane cuts the polygon sees less than the linear form says.
+  const Vec3 grazing(1, 0, 0.05);
+  EXPECT_GT(point_to_polygon(x, glm::normalize(grazing), square),
+            glm::dot(glm::normalize(grazing), phi) + 1e-3);
+}
+
 TEST(FormFactorExact, ClippingAtTheHorizon) {
   // A receiver normal tilted 90 degrees sees exactly half of a centred square: the
   // half-space cut passes through the square's centre line.

@@ -93,6 +93,38 @@ TEST(Lights, APerturbedNormalClipsTheEmitterToItsPlane) {
   }
 }
 
+// What the shadow rays found, kept for any normal (a bump's N' to come): the form gives
+// direct()'s value for every normal it covers (in single precision), in the open and half in
+// shadow, near the lamp (its elements one by one) and far (its outline); it refuses a normal
+// whose plane cuts the lamp, for which direct() clips.
+TEST(Lights, TheDirectFormGivesTheDirectLightForEveryNormalItCovers) {
+  const Room room(0.25, /*blocker=*/true);
+  const Lights lights(room.mesh, room.scene.materials);
+  const Vec3 up(0, 0, 1);
+  int covered = 0, refused = 0;
+  for (const Vec3 x : {Vec3(0.1, 0.1, 0), Vec3(0.6, 0, 0), Vec3(1.9, -1.2, 0), Vec3(-1, 0, 0)})
+    for (int k = 0; k <= 24; ++k) {
+      const double t = (k - 12) * 7 * std::numbers::pi / 180;
+      const Vec3 n(std::sin(t), 0, std::cos(t));
+      Random a(9), b(9);
+      const DirectForm form = lights.direct_form(x, up, *room.rays, 4, a);
+      const Rgb exact = lights.direct(x, n, up, *room.rays, 4, b);
+      if (!form.covers(n)) {
+        ++refused;
+        continue;
+      }
+      ++covered;
+      EXPECT_NEAR(form.at(n).g, exact.g, 1e-6 * std::max(exact.g, 1.0)) << x.x << " tilt " << k;
+    }
+  EXPECT_GT(covered, 40);
+  EXPECT_GT(refused, 4);
+  // A normal leaning 80 degrees away from a lamp that stands 60 degrees up is refused.
+  Random random(1);
+  const DirectForm form = lights.direct_form(Vec3(0.6, 0, 0), up, *room.rays, 4, random);
+  const double t = 80 * std::numbers::pi / 180;
+  EXPECT_FALSE(form.covers(Vec3(std::sin(t), 0, std::cos(t))));
+}
+
 TEST(Lights, NothingArrivesBehindAnEmitter) {
   const Room room(0.25);
   const Lights lights(room.mesh, room.scene.materials);
