@@ -175,43 +175,58 @@ void count_map_stats(const Scene& scene, Solution& solution) {
   solution.stats.map_values = solution.map->basis().size();
 }
 
-namespace {
-
 // `radiosity` per element as displayed; `direct` its part straight from the emitters, or
 // empty (then all light comes from the solution).
-Image render_solution(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
-                      std::span<const Rgb> direct, std::stop_token stop) {
+SolutionView::SolutionView(const Scene& scene, const Solution& solution,
+                           std::span<const Rgb> radiosity, std::span<const Rgb> direct)
+    : camera_(scene.camera), materials_(scene.materials) {
   SurfaceDetail detail;
   detail.map = solution.map.get();
-  detail.bumps = scene.bumps;
   for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
-  detail.materials = scene.materials;
+  detail.materials = materials_;
   detail.open = solution.open;
-  if (direct.empty())
-    return render_view(*solution.mesh, *solution.rays, scene.camera, radiosity, detail, stop);
+  if (direct.empty()) {
+    view_ =
+        std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, radiosity, detail);
+    return;
+  }
   std::vector<Rgb> indirect(radiosity.begin(), radiosity.end());
   for (std::size_t i = 0; i < indirect.size(); ++i) indirect[i] -= direct[i];
-  const Lights lights(*solution.mesh, scene.materials, scene.lights);
-  detail.lights = &lights;
-  std::vector<Rgb> reflected(radiosity.begin(), radiosity.end());
-  for (std::size_t i = 0; i < reflected.size(); ++i)
-    reflected[i] -= scene.materials[std::size_t(solution.mesh->elements[i].material)].emission;
+  lights_.emplace(*solution.mesh, materials_, scene.lights);
+  detail.lights = &*lights_;
+  reflected_.assign(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < reflected_.size(); ++i)
+    reflected_[i] -= materials_[std::size_t(solution.mesh->elements[i].material)].emission;
   detail.near = solution.near.get();
-  detail.reflected = reflected;
-  return render_view(*solution.mesh, *solution.rays, scene.camera, indirect, detail, stop);
+  detail.reflected = reflected_;
+  view_ =
+      std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, indirect, detail);
 }
 
-}  // namespace
+SolutionView::SolutionView(const Scene& scene, const Solution& solution)
+    : SolutionView(scene, solution, solution.display, solution.direct) {}
+
+SolutionView::SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step)
+    : SolutionView(scene, solution, step.radiosity,
+                   scene.solver.direct_light == DirectLight::Exact
+                       ? std::span<const Rgb>(step.direct)
+                       : std::span<const Rgb>()) {}
+
+Image SolutionView::render(std::span<const BumpFunction> bumps, std::stop_token stop) const {
+  return view_->render(bumps, stop);
+}
+
+std::size_t SolutionView::bytes() const {
+  return view_->bytes() + reflected_.capacity() * sizeof(Rgb);
+}
 
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {
-  return render_solution(scene, solution, solution.display, solution.direct, stop);
+  return SolutionView(scene, solution).render(scene.bumps, stop);
 }
 
 Image render(const Scene& scene, const Solution& solution, const Snapshot& step,
              std::stop_token stop) {
-  const bool exact = scene.solver.direct_light == DirectLight::Exact;
-  return render_solution(scene, solution, step.radiosity,
-                         exact ? std::span<const Rgb>(step.direct) : std::span<const Rgb>(), stop);
+  return SolutionView(scene, solution, step).render(scene.bumps, stop);
 }
 
 }  // namespace bumprad

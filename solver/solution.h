@@ -5,12 +5,16 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
+#include <span>
 #include <stop_token>
 #include <vector>
 
 #include "solver/radiosity/near_field.h"
 #include "solver/radiosity/perturbed_map.h"
 #include "solver/radiosity/solve_stats.h"
+#include "solver/render/lights.h"
+#include "solver/render/view_pass.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/util/image.h"
@@ -58,10 +62,34 @@ std::unique_ptr<PerturbedMap> make_map(const Scene& scene, const Mesh& mesh);
 // Fills the stats that describe the map (perturbed elements, directions) from `solution`.
 void count_map_stats(const Scene& scene, Solution& solution);
 
-// The view pass for `scene`'s camera and bump functions over a solution of the same
-// geometry. Objects without a bump function, or a solution without a map, render smooth.
-// Direct light is exact per pixel where the solution has `direct`. `stop` ends it within a
-// row; the image is then unfinished.
+// A solution seen by `scene`'s camera (the scene it was solved from, or one with other bump
+// functions or another camera: the same geometry): the view pass, which keeps what no bump
+// function changes, so render() again with other ones costs the shading alone. Objects
+// without a bump function, or a solution without a map, render smooth. Direct light is
+// exact per pixel where the solution has `direct`. The solution must outlive it.
+class SolutionView {
+ public:
+  SolutionView(const Scene& scene, const Solution& solution);
+  // The same for one refinement step (previews).
+  SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step);
+  // The image with these bump functions (`scene`'s, or ones in their place). `stop` ends it
+  // within a row; the image is then unfinished.
+  Image render(std::span<const BumpFunction> bumps, std::stop_token stop = {}) const;
+  // The memory it keeps, in bytes.
+  std::size_t bytes() const;
+  const Camera& camera() const { return camera_; }
+
+ private:
+  SolutionView(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
+               std::span<const Rgb> direct);
+  Camera camera_;
+  std::vector<Material> materials_;
+  std::vector<Rgb> reflected_;
+  std::optional<Lights> lights_;
+  std::unique_ptr<ViewPass> view_;
+};
+
+// One image: SolutionView(scene, solution).render(scene.bumps, stop).
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step (previews).
 Image render(const Scene& scene, const Solution& solution, const Snapshot& step,

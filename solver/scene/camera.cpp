@@ -16,6 +16,14 @@ Camera draft_camera(Camera camera) {
   return camera;
 }
 
+bool same_view(const Camera& a, const Camera& b) {
+  return a.position == b.position && a.look_at == b.look_at && a.up == b.up &&
+         a.fov_y_deg == b.fov_y_deg && a.width == b.width && a.height == b.height &&
+         a.antialias == b.antialias && a.antialias_max == b.antialias_max &&
+         a.max_depth == b.max_depth && a.glossy_samples == b.glossy_samples &&
+         a.shadow_rays == b.shadow_rays;
+}
+
 int adaptive_antialias(const Camera& camera) {
   if (camera.antialias <= 1) return 0;
   return camera.antialias_max > 0 ? camera.antialias_max

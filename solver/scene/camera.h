@@ -15,6 +15,10 @@ struct Ray {
 // solve.
 Camera draft_camera(Camera camera);
 
+// Whether two cameras take the same image before exposure (which only scales it): a view
+// pass kept for one serves the other.
+bool same_view(const Camera& a, const Camera& b);
+
 // The grid m of adaptive antialiasing: pixels whose n x n samples disagree are sampled again
 // on an m x m grid. camera.antialias_max, or 0 for 2n (at most Limits::kMaxAntialiasMax); at
 // most n (and with n = 1, which gives no disagreement to see) turns it off.
