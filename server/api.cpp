@@ -571,7 +571,8 @@ Response Api::retexture(const Request& request, const std::string& id, std::stop
                                       describe_duration(limits_.max_retexture_seconds) +
                                       " (--max-retexture-seconds); lower width, height, antialias, "
                                       "glossy_samples or shadow_rays");
-    Image image = render(r.scene, solved->solution, stop.get_token());
+    Image image =
+        solutions_.view(id, solved, r.scene.camera)->render(r.scene.bumps, stop.get_token());
     if (stop.stop_requested()) {
       Response res =
           problem(request, http::status::service_unavailable, "Stopped",

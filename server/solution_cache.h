@@ -1,5 +1,7 @@
 // Solved jobs held in memory for re-texturing: the scene and perturbed map of the most
-// recently used done jobs, loaded from the store on a miss.
+// recently used done jobs, loaded from the store on a miss, and with each the views of it
+// that re-textures rendered (SolutionView: what no bump function changes, per camera), so
+// that the next re-texture through the same camera costs the shading alone.
 #pragma once
 
 #include <list>
@@ -9,6 +11,7 @@
 
 #include "protocol/solution_file.h"
 #include "server/store.h"
+#include "solver/solution.h"
 
 namespace bumprad {
 
@@ -21,12 +24,24 @@ class SolutionCache {
   // SolutionFileError when the stored one is damaged. Loading happens outside the lock.
   std::shared_ptr<const LoadedSolution> get(const std::string& id);
 
+  // The view of job `id`'s solution `solved` (from get()) through `camera`: the one kept for
+  // the same view (same_view()), or a new one, kept (the most recent kViewsPerJob a job).
+  std::shared_ptr<const SolutionView> view(const std::string& id,
+                                           const std::shared_ptr<const LoadedSolution>& solved,
+                                           const Camera& camera);
+  static constexpr std::size_t kViewsPerJob = 4;  // a final and a draft camera, and moves
+
  private:
+  struct Entry {
+    std::string id;
+    std::shared_ptr<const LoadedSolution> solved;
+    std::list<std::shared_ptr<const SolutionView>> views;  // most recent first
+  };
   Store& store_;
   const std::size_t capacity_;
   const ImageFiles files_;
   std::mutex mutex_;
-  std::list<std::pair<std::string, std::shared_ptr<const LoadedSolution>>> entries_;
+  std::list<Entry> entries_;
 };
 
 }  // namespace bumprad

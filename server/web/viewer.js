@@ -390,8 +390,9 @@ async function solved(job) {
   state.scene = await getJson(`/v1/jobs/${job.id}/scene`);
   const names = Object.keys(state.scene.bumps || {});
   $("bump-name").replaceChildren(...names.map((n) => new Option(n, n)));
-  $("retexture-panel").hidden = false;
-  $("retexture-time").textContent = names.length ? "" : "This scene has no bump functions.";
+  // Nothing to re-texture in a scene without bump functions.
+  $("retexture-panel").hidden = names.length === 0;
+  $("retexture-time").textContent = "";
   if (names.length) fillBump(names[0]);
 }
 
@@ -419,7 +420,10 @@ function fillBump(name, type) {
     input.addEventListener("input", () => {
       shown.textContent = input.value;
       render("draft");
+      settleSoon();
     });
+    // A slider let go where it started fires no change event: the settle timer still ends
+    // the drafts with a full-quality image.
     input.addEventListener("change", () => render("final"));
     label.append(`${p.key.replace("_deg", " (deg)")} `, input, " ", shown);
     return label;
@@ -435,12 +439,20 @@ function currentBump() {
 
 // Newest first: at most one re-texture in flight; while it renders, later slider positions
 // replace each other, and the newest is sent when it returns.
-const live = { pending: null, busy: false, frames: [], drafts: 0, finals: 0 };
+const live = { pending: null, busy: false, frames: [], drafts: 0, finals: 0, settle: 0 };
 window.viewerStats = live;
 
+const kSettleMs = 300;  // after the last slider move, the full-quality image
+
 function render(quality) {
+  if (quality === "final") clearTimeout(live.settle);
   live.pending = { quality, name: $("bump-name").value, bump: currentBump() };
   pump();
+}
+
+function settleSoon() {
+  clearTimeout(live.settle);
+  live.settle = setTimeout(() => render("final"), kSettleMs);
 }
 
 async function pump() {

@@ -121,6 +121,22 @@ try {
         "the image at rest is full quality");
   check((await page.textContent("#after-caption")).includes("amplitude 0.032"),
         "the image at rest shows the slider's last value");
+  // Back to where it started with no change event (a drag let go at its starting point): the
+  // image at rest is still full quality.
+  const finals = await page.evaluate(() => window.viewerStats.finals);
+  await page.evaluate(async () => {
+    const slider = document.getElementById("param-amplitude");
+    const start = slider.value;
+    slider.value = "0.02";
+    slider.dispatchEvent(new Event("input"));
+    await new Promise((r) => setTimeout(r, 33));
+    slider.value = start;
+    slider.dispatchEvent(new Event("input"));
+  });
+  await page.waitForFunction((n) => window.viewerStats.finals > n && !window.viewerStats.busy,
+                             finals, { timeout: 60000 });
+  check((await page.textContent("#retexture-time")).startsWith("full quality"),
+        "a slider let go where it started ends with a full-quality image");
   await page.selectOption("#bump-type", "bricks");
   check(await page.isVisible("#param-mortar"), "a type's own parameters get sliders");
   await page.waitForFunction(() => document.getElementById("after-caption").textContent.includes("bricks"));
