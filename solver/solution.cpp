@@ -178,7 +178,7 @@ void count_map_stats(const Scene& scene, Solution& solution) {
 // `radiosity` per element as displayed; `direct` its part straight from the emitters, or
 // empty (then all light comes from the solution).
 SolutionView::SolutionView(const Scene& scene, const Solution& solution,
-                           std::span<const Rgb> radiosity, std::span<const Rgb> direct)
+                           std::span<const Rgb> radiosity, std::span<const Rgb> direct, bool keep)
     : camera_(scene.camera), materials_(scene.materials) {
   SurfaceDetail detail;
   detail.map = solution.map.get();
@@ -186,8 +186,8 @@ SolutionView::SolutionView(const Scene& scene, const Solution& solution,
   detail.materials = materials_;
   detail.open = solution.open;
   if (direct.empty()) {
-    view_ =
-        std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, radiosity, detail);
+    view_ = std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, radiosity,
+                                       detail, keep);
     return;
   }
   std::vector<Rgb> indirect(radiosity.begin(), radiosity.end());
@@ -199,18 +199,20 @@ SolutionView::SolutionView(const Scene& scene, const Solution& solution,
     reflected_[i] -= materials_[std::size_t(solution.mesh->elements[i].material)].emission;
   detail.near = solution.near.get();
   detail.reflected = reflected_;
-  view_ =
-      std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, indirect, detail);
+  view_ = std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, indirect, detail,
+                                     keep);
 }
 
-SolutionView::SolutionView(const Scene& scene, const Solution& solution)
-    : SolutionView(scene, solution, solution.display, solution.direct) {}
+SolutionView::SolutionView(const Scene& scene, const Solution& solution, bool keep)
+    : SolutionView(scene, solution, solution.display, solution.direct, keep) {}
 
-SolutionView::SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step)
+SolutionView::SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step,
+                           bool keep)
     : SolutionView(scene, solution, step.radiosity,
                    scene.solver.direct_light == DirectLight::Exact
                        ? std::span<const Rgb>(step.direct)
-                       : std::span<const Rgb>()) {}
+                       : std::span<const Rgb>(),
+                   keep) {}
 
 Image SolutionView::render(std::span<const BumpFunction> bumps, std::stop_token stop) const {
   return view_->render(bumps, stop);
@@ -221,12 +223,12 @@ std::size_t SolutionView::bytes() const {
 }
 
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {
-  return SolutionView(scene, solution).render(scene.bumps, stop);
+  return SolutionView(scene, solution, false).render(scene.bumps, stop);
 }
 
 Image render(const Scene& scene, const Solution& solution, const Snapshot& step,
              std::stop_token stop) {
-  return SolutionView(scene, solution, step).render(scene.bumps, stop);
+  return SolutionView(scene, solution, step, false).render(scene.bumps, stop);
 }
 
 }  // namespace bumprad

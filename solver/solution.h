@@ -66,12 +66,14 @@ void count_map_stats(const Scene& scene, Solution& solution);
 // functions or another camera: the same geometry): the view pass, which keeps what no bump
 // function changes, so render() again with other ones costs the shading alone. Objects
 // without a bump function, or a solution without a map, render smooth. Direct light is
-// exact per pixel where the solution has `direct`. The solution must outlive it.
+// exact per pixel where the solution has `direct`. The solution must outlive it. With
+// `keep` false it is for one image (ViewPass).
 class SolutionView {
  public:
-  SolutionView(const Scene& scene, const Solution& solution);
+  SolutionView(const Scene& scene, const Solution& solution, bool keep = true);
   // The same for one refinement step (previews).
-  SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step);
+  SolutionView(const Scene& scene, const Solution& solution, const Snapshot& step,
+               bool keep = true);
   // The image with these bump functions (`scene`'s, or ones in their place). `stop` ends it
   // within a row; the image is then unfinished.
   Image render(std::span<const BumpFunction> bumps, std::stop_token stop = {}) const;
@@ -81,7 +83,7 @@ class SolutionView {
 
  private:
   SolutionView(const Scene& scene, const Solution& solution, std::span<const Rgb> radiosity,
-               std::span<const Rgb> direct);
+               std::span<const Rgb> direct, bool keep);
   Camera camera_;
   std::vector<Material> materials_;
   std::vector<Rgb> reflected_;
@@ -89,7 +91,7 @@ class SolutionView {
   std::unique_ptr<ViewPass> view_;
 };
 
-// One image: SolutionView(scene, solution).render(scene.bumps, stop).
+// One image: SolutionView(scene, solution, false).render(scene.bumps, stop).
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step (previews).
 Image render(const Scene& scene, const Solution& solution, const Snapshot& step,

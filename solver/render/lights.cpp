@@ -410,9 +410,11 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
   thread_local std::vector<Vec3> corners;
   visible(x, from, geometric, rays, shadow_rays, random, seen);
   for (const Visible& v : seen) {
-    // The shares were judged by the geometric plane; on a flat surface unbumped F is theirs.
-    const double f = normal == geometric ? v.seen.form_factor
-                                         : point_to_polygon(x, normal, polygon(v.seen, corners));
+    // The shares were judged by the geometric plane; on a flat surface unbumped F is theirs
+    // (an interpolated normal there is the geometric one to within 1e-7 radians).
+    const double f = glm::dot(normal, geometric) > 1 - 5e-15
+                         ? v.seen.form_factor
+                         : point_to_polygon(x, normal, polygon(v.seen, corners));
     sum += v.seen.group->emission * (f * v.share * (v.seen.mirror ? v.seen.mirror->specular : 1));
   }
   return sum;

@@ -315,14 +315,15 @@ struct Row {
 
 struct ViewPass::Impl {
   Impl(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-       std::span<const Rgb> element_radiosity, const SurfaceDetail& detail)
+       std::span<const Rgb> element_radiosity, const SurfaceDetail& detail, bool keep)
       : tracer_(mesh, rays, camera, element_radiosity, detail),
+        keep_(keep),
         camera_(camera),
         pinhole_(camera),
         n_(std::max(1, camera.antialias)),
         m_(adaptive_antialias(camera)),
         object_bump_(detail.map ? detail.object_bump : std::vector<int>{}),
-        rows_(std::size_t(camera.height)) {}
+        rows_(keep ? std::size_t(camera.height) : 0) {}
 
   // A pixel's mean on a sheared k x k grid (the canonical arrangement of Chiu, Shirley &
   // Wang's multi-jittered sampling, without the jitter): one sample in each of the k x k
@@ -369,7 +370,13 @@ struct ViewPass::Impl {
   }
 
   void render_row(int y, std::span<const BumpFunction> bumps, Image& image) const {
-    Row& row = rows_[std::size_t(y)];
+    thread_local Row scratch;  // one image: a row's records, reused for the next row
+    if (!keep_) {
+      scratch.kept = false;
+      scratch.samples.clear();
+      scratch.forms.clear();
+    }
+    Row& row = keep_ ? rows_[std::size_t(y)] : scratch;
     std::lock_guard lock(row.mutex);
     const bool first = !row.kept;
     if (first) row.pixels.assign(std::size_t(camera_.width), Pixel{});
@@ -402,7 +409,7 @@ struct ViewPass::Impl {
       }
       image.set(x, y, radiance);
     }
-    if (first) {
+    if (first && keep_) {
       row.samples.shrink_to_fit();
       row.forms.shrink_to_fit();
     }
@@ -410,6 +417,7 @@ struct ViewPass::Impl {
   }
 
   const Tracer tracer_;
+  const bool keep_;
   const Camera camera_;
   const PinholeCamera pinhole_;
   const int n_, m_;
@@ -418,8 +426,8 @@ struct ViewPass::Impl {
 };
 
 ViewPass::ViewPass(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail)
-    : impl_(std::make_unique<Impl>(mesh, rays, camera, element_radiosity, detail)) {}
+                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail, bool keep)
+    : impl_(std::make_unique<Impl>(mesh, rays, camera, element_radiosity, detail, keep)) {}
 
 ViewPass::~ViewPass() = default;
 
@@ -447,7 +455,7 @@ std::size_t ViewPass::bytes() const {
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail,
                   std::span<const BumpFunction> bumps, std::stop_token stop) {
-  return ViewPass(mesh, rays, camera, element_radiosity, detail).render(bumps, stop);
+  return ViewPass(mesh, rays, camera, element_radiosity, detail, false).render(bumps, stop);
 }
 
 }  // namespace bumprad

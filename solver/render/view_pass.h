@@ -45,11 +45,13 @@ struct SurfaceDetail {
 // and the direct light's DirectForm; a pixel no bump can change keeps its value; only rays
 // whose bounces meet a bump (mirrors and glossy surfaces) are traced again. The first
 // render of each row finds all this; an image is the same whether its rows were kept or
-// not. Everything the constructor takes must outlive the ViewPass. Thread-safe.
+// not. Everything the constructor takes must outlive the ViewPass. Thread-safe. With `keep`
+// false it is for one image: each row's records are dropped once it is shaded.
 class ViewPass {
  public:
   ViewPass(const Mesh& mesh, const RayScene& rays, const Camera& camera,
-           std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {});
+           std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {},
+           bool keep = true);
   ~ViewPass();
   ViewPass(const ViewPass&) = delete;
   ViewPass& operator=(const ViewPass&) = delete;
@@ -65,7 +67,7 @@ class ViewPass {
   std::unique_ptr<Impl> impl_;
 };
 
-// One render: ViewPass(...).render(bumps, stop).
+// One image: ViewPass(..., keep = false).render(bumps, stop).
 Image render_view(const Mesh& mesh, const RayScene& rays, const Camera& camera,
                   std::span<const Rgb> element_radiosity, const SurfaceDetail& detail = {},
                   std::span<const BumpFunction> bumps = {}, std::stop_token stop = {});
