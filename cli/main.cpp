@@ -1,11 +1,13 @@
 // bumprad: the command line. `render` solves a scene and writes its image, `retexture`
-// re-renders a saved solution, `reference` path-traces its ground truth, `serve` runs the
-// HTTP service, `worker` solves for it from a shared store, `scenes` lists the built-ins.
+// re-renders a saved solution, `export` writes one as glTF, `reference` path-traces its
+// ground truth, `serve` runs the HTTP service, `worker` solves for it from a shared store,
+// `scenes` lists the built-ins.
 #include <cstdio>
 #include <iostream>
 #include <string_view>
 #include <vector>
 
+#include "cli/export_command.h"
 #include "cli/reference_command.h"
 #include "cli/render_command.h"
 #include "cli/retexture_command.h"
@@ -20,6 +22,7 @@ constexpr const char* kHelp =
     "  bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R] [--tolerance T]\n"
     "                 [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  bumprad retexture M --bump B.json -o OUT.(png|exr)   re-render a saved solution\n"
+    "  bumprad export M -o SCENE.glb   a saved solution as a lit glTF binary\n"
     "  bumprad reference SCENE -o REF.exr [--spp N] [--seed S]   path-traced ground truth\n"
     "  bumprad serve [--port P] [--data-dir DIR | --store URL] ...   the HTTP service\n"
     "  bumprad worker --store URL [--workers N] ...   a solver node for serve --store\n"
@@ -39,6 +42,7 @@ int main(int argc, char** argv) {
   if (command == "render") return bumprad::render_command(rest);
   if (command == "reference") return bumprad::reference_command(rest);
   if (command == "retexture") return bumprad::retexture_command(rest);
+  if (command == "export") return bumprad::export_command(rest);
   if (command == "serve") return bumprad::serve_command(rest);
   if (command == "worker") return bumprad::worker_command(rest);
   if (command == "scenes") {

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs bumprad's Debian packages (only those missing) and builds Release into build/.
-# With --tests, also what the tests need: Chromium, Node.js (if the machine has none) and
-# playwright-core from the npm registry, pinned by tests/web/package-lock.json, and clang
-# for the fuzz target, built into build-fuzz/.
+# With --tests, also what the tests need: Chromium, Node.js (if the machine has none),
+# playwright-core and gltf-validator from the npm registry, pinned by
+# tests/web/package-lock.json, and clang for the fuzz target, built into build-fuzz/.
 # Idempotent: a second run installs nothing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."

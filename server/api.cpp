@@ -10,6 +10,7 @@
 #include "common/stopwatch.h"
 #include "protocol/api_json.h"
 #include "protocol/builtin_scenes.h"
+#include "protocol/gltf_export.h"
 #include "protocol/upload.h"
 #include "server/step_stream.h"
 #include "server/web_assets.h"
@@ -216,6 +217,7 @@ std::span<const Api::Route> Api::route_table() {
       {"/v1/jobs/{id}/preview", V::get, &Api::job_preview},
       {"/v1/jobs/{id}/scene", V::get, &Api::job_scene},
       {"/v1/jobs/{id}/solution", V::get, &Api::job_solution},
+      {"/v1/jobs/{id}/model.glb", V::get, &Api::job_model},
       {"/v1/jobs/{id}/image", V::get, &Api::job_image},
   };
   return kRoutes;
@@ -481,6 +483,30 @@ Routed Api::job_solution(const Call& call, const JobRecord& record) {
   return {std::string(call.pattern), std::move(res)};
 }
 
+Routed Api::job_model(const Call& call, const JobRecord& record) {
+  if (record.state != JobState::Done)
+    return not_done(call.request, call.pattern, record, "the lit model");
+  // Loading the solution and writing the model happen on the render pool.
+  return {std::string(call.pattern),
+          DeferredRequest{DeferredRequest::Pool::Render,
+                          [this, id = record.id](const Request& request, std::stop_source) {
+                            try {
+                              auto solved = solutions_.get(id);
+                              if (!solved)
+                                return problem(request, http::status::not_found, "Not found",
+                                               "job " + id + " was deleted");
+                              store_.touch(id);
+                              Response res = answer(request, http::status::ok, "model/gltf-binary",
+                                                    export_glb(solved->scene, solved->solution));
+                              res.set(http::field::content_disposition,
+                                      "attachment; filename=\"" + id + ".glb\"");
+                              return res;
+                            } catch (...) {
+                              return refusal(request, std::current_exception());
+                            }
+                          }}};
+}
+
 Routed Api::job_image(const Call& call, const JobRecord& record) {
   std::string_view format = query_value(call.query, "format").value_or("png");
   if (format != "png" && format != "exr")
@@ -493,8 +519,11 @@ Routed Api::job_image(const Call& call, const JobRecord& record) {
   auto bytes = store_.read(record.id, f == ImageFormat::Png ? Artifact::Png : Artifact::Exr);
   if (!bytes) return not_found(call);
   store_.touch(record.id);
-  return {std::string(call.pattern),
-          answer(call.request, http::status::ok, mime_type(f), std::move(*bytes))};
+  // Saved, the image is named for its job and format (not "image").
+  Response res = answer(call.request, http::status::ok, mime_type(f), std::move(*bytes));
+  res.set(http::field::content_disposition,
+          "inline; filename=\"" + record.id + (f == ImageFormat::Png ? ".png\"" : ".exr\""));
+  return {std::string(call.pattern), std::move(res)};
 }
 
 Api::Accepted Api::accept(const Request& request) const {

@@ -126,6 +126,7 @@ class Api {
   Routed job_preview(const Call& call, const JobRecord& record);
   Routed job_scene(const Call& call, const JobRecord& record);
   Routed job_solution(const Call& call, const JobRecord& record);
+  Routed job_model(const Call& call, const JobRecord& record);
   Routed job_image(const Call& call, const JobRecord& record);
   // A step's PNG, or why there is none.
   Routed step_answer(const Call& call, const JobRecord& record, int step, bool immutable);

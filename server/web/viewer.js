@@ -67,7 +67,8 @@ async function refreshJobs() {
     if (job.state === "done") {
       const base = `/v1/jobs/${job.id}`;
       cells[5].append(link(`${base}/image`, "PNG"), " ", link(`${base}/image?format=exr`, "EXR"),
-                      " ", link(`${base}/solution`, "solution"), " ", link(`${base}/scene`, "scene"));
+                      " ", link(`${base}/solution`, "solution"), " ", link(`${base}/model.glb`, "glTF"),
+                      " ", link(`${base}/scene`, "scene"));
     }
     tr.dataset.id = job.id;
     tr.append(...cells);

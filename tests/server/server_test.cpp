@@ -104,9 +104,11 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
   ASSERT_EQ(image.status, 200);
   EXPECT_EQ(image.header("content-type"), "image/png");
   EXPECT_EQ(png_size(image.body), std::make_pair(64, 48));
+  EXPECT_EQ(image.header("content-disposition"), "inline; filename=\"" + id + ".png\"");
   HttpResponse exr = c.get("/v1/jobs/" + id + "/image?format=exr");
   EXPECT_EQ(exr.status, 200);
   EXPECT_EQ(exr.body.substr(0, 4), std::string("\x76\x2f\x31\x01", 4));
+  EXPECT_EQ(exr.header("content-disposition"), "inline; filename=\"" + id + ".exr\"");
 
   // Steps: immutable per-step URLs; the latest preview is the final image.
   HttpResponse step1 = c.get("/v1/jobs/" + id + "/steps/1.png");
@@ -130,10 +132,19 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
   HttpResponse flat = c.request("POST", "/v1/jobs/" + id + "/retexture",
                                 R"({"bumps": {"wrinkles": {"type": "bricks", "amplitude": 0}}})");
   EXPECT_NE(flat.body, image.body) << "bumps show in the image";
+  EXPECT_EQ(c.request("POST", "/v1/jobs/" + id + "/retexture", "{}").body, image.body)
+      << "the view kept from the re-textures before renders the final image exactly";
   expect_problem(c.request("POST", "/v1/jobs/" + id + "/retexture",
                            R"({"bumps": {"wrinkles": {"type": "brick"}}})"),
                  422, "unknown bump type", "/bumps/wrinkles/type");
   EXPECT_EQ(json::parse(c.get("/v1/jobs/" + id).body)["shots"], 40) << "nothing was re-solved";
+
+  // The lit model (its content: gltf_export_test; its validity: gltf_validate_test).
+  HttpResponse model = c.get("/v1/jobs/" + id + "/model.glb");
+  ASSERT_EQ(model.status, 200) << model.body;
+  EXPECT_EQ(model.header("content-type"), "model/gltf-binary");
+  EXPECT_EQ(model.body.substr(0, 4), "glTF");
+  EXPECT_NE(model.header("content-disposition").find(id + ".glb"), std::string::npos);
 
   json stored = json::parse(c.get("/v1/jobs/" + id + "/scene").body);
   EXPECT_EQ(stored["solver"]["preview_every"], 10) << "the request's settings are merged in";
@@ -146,6 +157,7 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
   EXPECT_GE(json::parse(c.get("/v1/scenes").body)["scenes"].size(), 3u);
   json openapi = json::parse(c.get("/v1/openapi").body);
   EXPECT_TRUE(openapi["paths"].contains("/v1/jobs/{id}/retexture"));
+  EXPECT_TRUE(openapi["paths"].contains("/v1/jobs/{id}/model.glb"));
   HttpResponse page = c.get("/");
   EXPECT_EQ(page.header("content-type"), "text/html; charset=utf-8");
   EXPECT_NE(page.body.find("viewer.js"), std::string::npos);
@@ -153,7 +165,7 @@ TEST(Server, SubmitWatchFetchAndRetexture) {
   EXPECT_NE(metrics.find("bumprad_jobs{state=\"done\"} 1"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("bumprad_shots_total 40"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("bumprad_http_requests_total{method=\"POST\",route=\"/v1/jobs/{id}/"
-                         "retexture\",status=\"200\"} 3"),
+                         "retexture\",status=\"200\"} 4"),
             std::string::npos)
       << metrics;
   EXPECT_NE(metrics.find("bumprad_http_request_seconds_count{method=\"GET\",route=\"/v1/jobs\"}"),
