@@ -26,14 +26,22 @@ std::string StepStream::catch_up(const Job::View& view) {
       out += "id: " + std::to_string(r.step) + "\n" + event("step", step_event_json(r));
     if (is_finished(r.state)) out += event(to_string(r.state), job_to_json(r));
   } else {
-    if (view.preview && r.step > sent_step_) {
-      out += "--" + std::string(kBoundary) + "\r\nContent-Type: image/png\r\nContent-Length: " +
-             std::to_string(view.preview->size()) +
+    // A browser shows a part once it sees the delimiter after it, so each frame ends with
+    // one: the next part's ("--B"), or the closing one ("--B--") when the job has ended.
+    // A job that ends after its last frame went out closes with that frame again, so the
+    // open part is never empty.
+    const bool fresh = view.preview && r.step > sent_step_;
+    const bool finished = is_finished(r.state);
+    if (!started_) out += "--" + std::string(kBoundary) + "\r\n";
+    if (view.preview && (fresh || (finished && started_))) {
+      out += "Content-Type: image/png\r\nContent-Length: " + std::to_string(view.preview->size()) +
              "\r\nX-Bumprad-Step: " + std::to_string(r.step) + "\r\n\r\n";
       out += *view.preview;
-      out += "\r\n";
+      out += "\r\n--" + std::string(kBoundary) + (finished ? "--\r\n" : "\r\n");
+    } else if (finished) {  // no frame at all: an empty stream, closed
+      out += "Content-Type: text/plain\r\nContent-Length: 0\r\n\r\n\r\n--" +
+             std::string(kBoundary) + "--\r\n";
     }
-    if (is_finished(r.state)) out += "--" + std::string(kBoundary) + "--\r\n";
   }
   started_ = true;
   sent_step_ = view.preview || kind_ == StreamRequest::Kind::Events ? r.step : sent_step_;

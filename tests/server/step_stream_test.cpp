@@ -34,17 +34,27 @@ TEST(StepStream, EventsStartWithTheStateThenStepsThenTheEnd) {
   EXPECT_EQ(s.heartbeat(), ": keep-alive\n\n");
 }
 
-TEST(StepStream, ImagesAreFramesOfTheNewestPreview) {
+// Each frame ends with the delimiter after it, which is when a browser shows it (a frame
+// that waited for the next one's boundary showed each step one step late); the end closes
+// with the newest frame again.
+TEST(StepStream, ImagesAreFramesOfTheNewestPreviewEachClosedAtOnce) {
   StepStream s(StreamRequest::Kind::Images);
-  EXPECT_EQ(s.catch_up(view(0, JobState::Queued, nullptr)), "");
+  EXPECT_EQ(s.catch_up(view(0, JobState::Queued, nullptr)), "--bumpradframe\r\n");
   std::string frame = s.catch_up(view(2, JobState::Running, "PNGDATA"));
   EXPECT_EQ(frame,
-            "--bumpradframe\r\nContent-Type: image/png\r\nContent-Length: 7\r\n"
-            "X-Bumprad-Step: 2\r\n\r\nPNGDATA\r\n");
+            "Content-Type: image/png\r\nContent-Length: 7\r\n"
+            "X-Bumprad-Step: 2\r\n\r\nPNGDATA\r\n--bumpradframe\r\n");
   EXPECT_EQ(s.catch_up(view(2, JobState::Running, "PNGDATA")), "");
-  EXPECT_EQ(s.catch_up(view(2, JobState::Cancelled, "PNGDATA")), "--bumpradframe--\r\n");
+  EXPECT_EQ(s.catch_up(view(2, JobState::Cancelled, "PNGDATA")),
+            "Content-Type: image/png\r\nContent-Length: 7\r\n"
+            "X-Bumprad-Step: 2\r\n\r\nPNGDATA\r\n--bumpradframe--\r\n");
   EXPECT_TRUE(s.finished());
   EXPECT_EQ(s.heartbeat(), "");
+
+  StepStream done(StreamRequest::Kind::Images);  // opened on a finished job
+  EXPECT_EQ(done.catch_up(view(3, JobState::Done, "PNG")),
+            "--bumpradframe\r\nContent-Type: image/png\r\nContent-Length: 3\r\n"
+            "X-Bumprad-Step: 3\r\n\r\nPNG\r\n--bumpradframe--\r\n");
 }
 
 }  // namespace
