@@ -42,8 +42,13 @@ function link(href, text) {
   return a;
 }
 
+const kPollMs = 2000;  // the job list while a job runs; the server's health always
+
 async function refreshJobs() {
+  clearTimeout(refreshJobs.timer);
   const { jobs } = await getJson("/v1/jobs");
+  if (jobs.some((job) => job.state === "queued" || job.state === "running"))
+    refreshJobs.timer = setTimeout(() => refreshJobs().catch(() => {}), kPollMs);
   $("no-jobs").hidden = jobs.length > 0;
   $("jobs").hidden = jobs.length === 0;
   const rows = jobs.map((job) => {
@@ -96,9 +101,16 @@ function useJson(on) {
   if (!on) setCheck("", "");
 }
 
+// JSON indented for editing, with arrays of numbers (positions, colours) on one line.
+function formatJson(value) {
+  return JSON.stringify(value, null, 2).replace(
+    /\[\s*(-?[\d.eE+-]+(?:,\s*-?[\d.eE+-]+)*)\s*\]/g,
+    (_, inner) => `[${inner.split(/,\s*/).join(", ")}]`);
+}
+
 async function editExample() {
   const text = await (await fetch(`/v1/scenes/${$("scene-select").value}`)).text();
-  $("scene-json").value = JSON.stringify(JSON.parse(text), null, 2);
+  $("scene-json").value = formatJson(JSON.parse(text));
   useJson(true);
   checkScene();
 }
@@ -284,9 +296,38 @@ function showWarnings(job) {
 
 // ---- A job: live stream, progress, convergence --------------------------------------------
 
+function showRemove(jobState) {
+  const ended = !["queued", "running"].includes(jobState);
+  $("remove-job").textContent = ended ? "Delete" : "Cancel";
+}
+
+// DELETE cancels a queued or running job and deletes an ended one.
+async function removeJob() {
+  const response = await fetch(`/v1/jobs/${state.job.id}`, { method: "DELETE" });
+  if (!response.ok) return showError(problemText(await problemOf(response)));
+  if ($("remove-job").textContent === "Delete") {
+    if (state.events) state.events.close();
+    $("job").hidden = true;
+  }
+  await refreshJobs();
+}
+
+// The banner while /healthz does not answer.
+async function checkServer() {
+  let up = false;
+  try {
+    up = (await fetch("/healthz", { cache: "no-store" })).ok;
+  } catch {
+    up = false;
+  }
+  $("offline").hidden = up;
+  setTimeout(checkServer, kPollMs);
+}
+
 function show(job) {
   if (state.events) state.events.close();
   state.job = job;
+  showRemove(job.state);
   state.curve = [];
   state.started = 0;
   $("job").hidden = false;
@@ -351,6 +392,7 @@ function follow(job) {
   events.addEventListener("state", (e) => {
     const record = JSON.parse(e.data);
     $("state").textContent = record.state;
+    showRemove(record.state);
     if (record.step > 0) showProgress(record);
   });
   events.addEventListener("step", (e) => {
@@ -361,6 +403,7 @@ function follow(job) {
     events.close();
     const final = JSON.parse(e.data);
     $("state").textContent = final.state;
+    showRemove(final.state);
     showWarnings(final);
     showProgress(final);
     refreshJobs();
@@ -521,6 +564,7 @@ $("drop").addEventListener("drop", (e) => {
   submitFiles(e.dataTransfer.files);
 });
 $("refresh-jobs").addEventListener("click", refreshJobs);
+$("remove-job").addEventListener("click", () => removeJob().catch((e) => showError(e.message)));
 $("curve-axis").addEventListener("change", drawCurve);
 $("bump-name").addEventListener("change", () => fillBump($("bump-name").value));
 $("bump-type").addEventListener("change", () => {
@@ -531,3 +575,4 @@ $("split").addEventListener("input", split);
 split();
 loadScenes().catch((e) => showError(`Cannot list the scenes: ${e.message}`));
 refreshJobs().catch((e) => showError(`Cannot list the jobs: ${e.message}`));
+checkServer();

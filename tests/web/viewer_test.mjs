@@ -53,6 +53,8 @@ try {
   await page.click("#edit-example");
   await page.waitForFunction(() => document.getElementById("scene-check").textContent.startsWith("Valid"));
   check(true, "an example scene loads into the editor and the server finds it valid");
+  check((await page.inputValue("#scene-json")).includes('"position": [0.6, 1.55, 1.9]'),
+        "the example keeps a position's numbers on one line");
   const scene = [
     "{",
     '  "camera": {"position": [0, 1, -3], "look_at": [0, 1, 0]},',
@@ -166,7 +168,21 @@ try {
   check(warned.includes("\"BoxTextured.gltf\": material \"Texture\": base colour above 0.99"),
         `a dropped glTF with its files solves, its importer's warnings shown (${warned})`);
   await page.screenshot({ path: join(work, "viewer.png"), fullPage: true });
+
+  // Delete the ended job from its panel: it leaves the list.
+  const dropId = await page.textContent("#job-id");
+  check((await page.textContent("#remove-job")) === "Delete", "an ended job offers Delete");
+  await page.click("#remove-job");
+  await page.waitForFunction((id) => ![...document.querySelectorAll("#jobs tbody tr")]
+                                       .some((tr) => tr.dataset.id === id), dropId);
+  check(!(await page.isVisible("#job")), "a deleted job leaves the list and its panel closes");
   check(errors.length === 0, `no script errors (${errors.join("; ")})`);
+
+  // The server gone: a banner says so.
+  check(!(await page.isVisible("#offline")), "no banner while the server answers");
+  server.kill("SIGTERM");
+  await page.waitForSelector("#offline", { state: "visible", timeout: 15000 });
+  check(true, "a banner says when the server cannot be reached");
 } catch (e) {
   console.error(e.message);
   failed = true;
