@@ -27,6 +27,21 @@ void require_object(const json& value, const std::string& pointer, const char* w
   if (!value.is_object()) throw SceneError(pointer, std::string("must be ") + what);
 }
 
+// How the job list names a scene sent inline: by its description, cut at a word near 60
+// characters, or "inline scene" when it has none.
+std::string inline_scene_name(const json& scene) {
+  constexpr std::size_t kLength = 60;
+  const auto d = scene.find("description");
+  if (d == scene.end() || !d->is_string() || d->get_ref<const std::string&>().empty())
+    return "inline scene";
+  std::string name = d->get<std::string>();
+  if (name.size() <= kLength) return name;
+  std::size_t cut = name.rfind(' ', kLength);
+  if (cut == std::string::npos || cut < kLength / 2) cut = kLength;
+  while (cut > 0 && (static_cast<unsigned char>(name[cut]) & 0xC0) == 0x80) --cut;  // UTF-8
+  return name.substr(0, cut) + "…";
+}
+
 }  // namespace
 
 JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
@@ -54,7 +69,8 @@ JobRequest parse_job_request(std::string_view body, const ImageFiles& files) {
   } else {
     scene = request["scene"];
     require_object(scene, "/scene", "a scene object");
-    out.scene_name = "inline";
+    out.scene_name = inline_scene_name(scene);
+    out.inline_scene = true;
     prefix = "/scene";
   }
 

@@ -16,8 +16,9 @@ namespace bumprad {
 
 struct JobRequest {
   Scene scene;
-  std::string scene_json;  // the scene with the request's overrides merged in: what is solved
-  std::string scene_name;  // for JobRecord::scene_name
+  std::string scene_json;     // the scene with the request's overrides merged in: what is solved
+  std::string scene_name;     // for JobRecord::scene_name
+  bool inline_scene = false;  // sent as "scene" (its fields under /scene), not "builtin"
   std::vector<std::string> warnings;  // what its models' importer dropped or assumed
 };
 

@@ -529,7 +529,7 @@ Routed Api::job_image(const Call& call, const JobRecord& record) {
 Api::Accepted Api::accept(const Request& request) const {
   JobRequest job_request = parse_job_request(
       job_request_json(request[http::field::content_type], request.body()), limits_.files);
-  const bool inline_scene = job_request.scene_name == "inline";
+  const bool inline_scene = job_request.inline_scene;
   const CostEstimate cost = estimate_cost(job_request.scene);
   if (cost.solve_s + cost.render_s > limits_.max_job_seconds) {
     const bool solve = cost.solve_s >= cost.render_s;

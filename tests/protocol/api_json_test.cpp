@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "protocol/builtin_scenes.h"
+
 namespace bumprad {
 namespace {
 
@@ -39,6 +41,21 @@ TEST(ApiJson, BuiltinJobWithOverridesStoresTheSceneItSolves) {
   EXPECT_EQ(again.solver.unshot_fraction, job.scene.solver.unshot_fraction);
   EXPECT_EQ(again.bumps[0].type, BumpType::Dimples);
   EXPECT_EQ(again.bumps[0].amplitude, 0.02);
+}
+
+// The job list names an inline scene by its description (cut at a word), not "inline".
+TEST(ApiJson, AnInlineJobIsNamedByItsScenesDescription) {
+  json scene = json::parse(*find_builtin_scene("cornell"));
+  scene["description"] = "A short room";
+  EXPECT_EQ(parse_job_request(json{{"scene", scene}}.dump(), ImageFiles::refused()).scene_name,
+            "A short room");
+  scene["description"] =
+      "A room of several boxes, lamps and mirrors that goes on for longer than a list can show";
+  EXPECT_EQ(parse_job_request(json{{"scene", scene}}.dump(), ImageFiles::refused()).scene_name,
+            "A room of several boxes, lamps and mirrors that goes on for…");
+  scene.erase("description");
+  EXPECT_EQ(parse_job_request(json{{"scene", scene}}.dump(), ImageFiles::refused()).scene_name,
+            "inline scene");
 }
 
 TEST(ApiJson, JobsWithoutPreviewEveryGetAboutTwentySteps) {
