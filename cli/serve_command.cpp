@@ -14,7 +14,8 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: bumprad serve [--bind ADDR] [--port P] [--data-dir DIR | --store URL] [--workers N]\n"
-    "                     [--max-queue Q] [--assets DIR] [--keep-steps K] [--max-jobs J]\n"
+    "                     [--max-queue Q] [--assets DIR] [--max-image-memory B]\n"
+    "                     [--keep-steps K] [--max-jobs J]\n"
     "                     [--max-bytes B] [--body-limit B] [--max-retextures R]\n"
     "                     [--max-connections C] [--max-job-seconds S]\n"
     "                     [--max-retexture-seconds S] [--job-timeout S] [--retexture-timeout S]\n"
@@ -27,6 +28,8 @@ constexpr const char* kUsage =
     "  --workers 1          jobs solved at once (with --store, default 0: an API-only node)\n"
     "  --max-queue 16       waiting jobs before POST /v1/jobs answers 429\n"
     "  --assets DIR         image files scenes may name (default: none may be named)\n"
+    "  --max-image-memory 2G  what one scene's images may take decoded, checked from their\n"
+    "                       headers before decoding (each image is also limited to 8192^2)\n"
     "  --keep-steps 64      newest step previews kept per job\n"
     "  --max-jobs 500       finished jobs kept (least recently used evicted first)\n"
     "  --max-bytes 4G       their files in all (suffixes K, M, G)\n"
@@ -43,6 +46,7 @@ constexpr const char* kUsage =
 
 constexpr const char* kWorkerUsage =
     "usage: bumprad worker --store postgresql://... [--workers N] [--assets DIR]\n"
+    "                      [--max-image-memory B]\n"
     "                      [--job-timeout S] [--keep-steps K] [--max-jobs J] [--max-bytes B]\n"
     "                      [--lease S] [--max-attempts N]\n"
     "  Solves the jobs that `bumprad serve --store` nodes take, with the same options\n"
@@ -63,7 +67,15 @@ ArgParser node_flags(NodeOptions& o, std::optional<int>& workers) {
       .integer({"--max-queue"}, o.store.max_queue, 1, 1'000'000'000)
       .custom({"--assets"},
               [&o](std::string_view, std::string_view v) {
-                o.api.files = o.runner.files = ImageFiles::sandbox(std::string(v));
+                for (ImageFiles* f : {&o.api.files, &o.runner.files}) {
+                  f->access = ImageFiles::Access::Sandbox;
+                  f->root = std::string(v);
+                }
+              })
+      .custom({"--max-image-memory"},
+              [&o](std::string_view flag, std::string_view v) {
+                o.api.files.max_image_bytes = o.runner.files.max_image_bytes =
+                    std::size_t(parse_integer(flag, v, 1 << 20, INT64_MAX, true));
               })
       .integer({"--keep-steps"}, o.store.keep_steps, 1, 100'000)
       .integer({"--max-jobs"}, o.store.retention.max_jobs, 1, 1'000'000'000)

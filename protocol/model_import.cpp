@@ -51,8 +51,12 @@ bool finite_within_limit(const Vec3& p) {
 class Reader {
  public:
   Reader(const std::filesystem::path& file, const aiScene& scene,
-         const std::optional<std::filesystem::path>& confine)
-      : file_(file), scene_(scene), confine_(confine), obj_(file.extension() == ".obj") {}
+         const std::optional<std::filesystem::path>& confine, ImageBudget* budget)
+      : file_(file),
+        scene_(scene),
+        confine_(confine),
+        budget_(budget ? budget : &own_budget_),
+        obj_(file.extension() == ".obj") {}
 
   ImportedModel read() {
     if (is_gltf_file(file_)) try {
@@ -197,7 +201,7 @@ class Reader {
   }
 
   // The material's first texture of these types, embedded in the file or beside it, decoded
-  // under the pixel limit; none when there is none. `what` names the material in errors.
+  // within the image budget; none when there is none. `what` names the material in errors.
   std::shared_ptr<Image> texture(const aiMaterial& m, std::initializer_list<aiTextureType> types,
                                  const std::string& material, PixelMeaning meaning) {
     aiString path;
@@ -215,7 +219,7 @@ class Reader {
         const std::string format = embedded->achFormatHint[0] ? embedded->achFormatHint : "png";
         return std::make_shared<Image>(decode_image(
             std::string_view(reinterpret_cast<const char*>(embedded->pcData), embedded->mWidth),
-            "texture." + format, Limits::kMaxTexturePixels, meaning));
+            "texture." + format, budget_, meaning));
       }
       const std::filesystem::path file = file_.parent_path() / name;
       if (confine_ && !lies_inside(*confine_, file))
@@ -224,7 +228,7 @@ class Reader {
              "server's asset directory)");
       if (!std::filesystem::exists(file)) fail(what + " is missing");
       if (!std::filesystem::is_regular_file(file)) fail(what + " is not a regular file");
-      return std::make_shared<Image>(read_image(file, Limits::kMaxTexturePixels, meaning));
+      return std::make_shared<Image>(read_image(file, budget_, meaning));
     } catch (const ModelError&) {
       throw;
     } catch (const std::exception& e) {
@@ -429,6 +433,8 @@ class Reader {
   const std::filesystem::path& file_;
   const aiScene& scene_;
   const std::optional<std::filesystem::path>& confine_;
+  ImageBudget own_budget_{Limits::kMaxTexturePixels, 0};  // when the caller gives none
+  ImageBudget* budget_;
   const bool obj_;
   std::optional<nlohmann::json> gltf_;  // a glTF file's JSON, for what Assimp misreads
   ImportedModel model_;
@@ -447,7 +453,8 @@ bool is_model_file(const std::filesystem::path& file) {
 }
 
 ImportedModel import_model(const std::filesystem::path& file,
-                           const std::optional<std::filesystem::path>& confine) {
+                           const std::optional<std::filesystem::path>& confine,
+                           ImageBudget* budget) {
   Assimp::Importer importer;
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -458,7 +465,7 @@ ImportedModel import_model(const std::filesystem::path& file,
   if (!scene || !scene->mRootNode || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw ModelError(file.string() + ": " +
                      (std::filesystem::exists(file) ? importer.GetErrorString() : "no such file"));
-  return Reader(file, *scene, confine).read();
+  return Reader(file, *scene, confine, budget).read();
 }
 
 void transform_model(ImportedModel& model, const glm::dmat4& to_world) {

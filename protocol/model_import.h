@@ -37,8 +37,10 @@ bool is_model_file(const std::filesystem::path& file);
 
 // Throws ModelError. Textures resolve from the model's directory; with `confine`, one that
 // lies outside that directory (a server's asset directory, a scene's own files) is refused.
+// They are decoded within `budget` (the scene's), or within the per-image pixel limit.
 ImportedModel import_model(const std::filesystem::path& file,
-                           const std::optional<std::filesystem::path>& confine = {});
+                           const std::optional<std::filesystem::path>& confine = {},
+                           ImageBudget* budget = nullptr);
 
 // Moves the model by `to_world` (positions; normals by its inverse transpose; a mirroring
 // one turns the triangles' winding back; lights and camera follow).

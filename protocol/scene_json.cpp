@@ -56,8 +56,7 @@ std::shared_ptr<const Image> load_image_file(const Node& n, const ImageFiles& fi
     n.fail(e.what());
   }
   try {
-    auto image =
-        std::make_shared<const Image>(read_image(resolved, Limits::kMaxTexturePixels, meaning));
+    auto image = std::make_shared<const Image>(read_image(resolved, files.budget, meaning));
     if (image->width < 1 || image->height < 1) n.fail("image \"" + path + "\" is empty");
     return image;
   } catch (const SceneError&) {
@@ -447,7 +446,10 @@ void apply_solver_settings(const json& settings, SolverSettings& s, const std::s
 }
 
 void apply_bump_overrides(const json& bumps, Scene& scene, const std::string& pointer,
-                          const ImageFiles& files) {
+                          const ImageFiles& outside) {
+  ImageBudget budget(Limits::kMaxTexturePixels, outside.max_image_bytes);
+  ImageFiles files = outside;
+  files.budget = &budget;
   Node n(bumps, pointer);
   for (auto it = n.object().begin(); it != bumps.end(); ++it) {
     Node b(*it, pointer + "/" + escape_token(it.key()));
@@ -478,7 +480,7 @@ std::optional<Camera> add_model(const Node& n, std::size_t index,
   ImportedModel model;
   try {
     const std::filesystem::path resolved = files.resolve(file.string());
-    model = import_model(resolved, files.confinement(file.string()));
+    model = import_model(resolved, files.confinement(file.string()), files.budget);
   } catch (const std::invalid_argument& e) {
     file.fail(e.what());
   } catch (const ModelError& e) {
@@ -580,7 +582,9 @@ Scene parse_scene(const json& document, const ImageFiles& outside,
                    "lights", "solver"});
   // The scene's own files, where its names look first, for as long as this parse.
   std::optional<EmbeddedFiles> embedded;
+  ImageBudget budget(Limits::kMaxTexturePixels, outside.max_image_bytes);
   ImageFiles files = outside;
+  files.budget = &budget;
   if (auto v = root.get("files")) files.embedded = &embedded.emplace(v->value(), v->pointer());
   if (auto v = root.get("version"); v && v->integer(1, 1) != 1) v->fail("unsupported version");
   if (auto v = root.get("description")) v->string();

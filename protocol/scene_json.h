@@ -24,8 +24,12 @@ struct ImageFiles {
   enum class Access { WorkingDirectory, Sandbox, Refused };
   Access access = Access::WorkingDirectory;
   std::filesystem::path root;  // the sandbox
-  // The scene's own "files", which its names reach first (set while a scene is parsed).
+  // What one scene's images may take to decode in all (a server's --max-image-memory).
+  std::size_t max_image_bytes = Limits::kMaxImageBytes;
+  // Set while a scene is parsed: its own "files", which its names reach first, and the
+  // budget its images draw from.
   const EmbeddedFiles* embedded = nullptr;
+  ImageBudget* budget = nullptr;
 
   static ImageFiles sandbox(std::filesystem::path dir) { return {Access::Sandbox, std::move(dir)}; }
   static ImageFiles refused() { return {Access::Refused, {}}; }

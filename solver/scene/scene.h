@@ -25,6 +25,10 @@ struct Limits {
   // An image a scene reads (texture, height or normal map), checked from its file's header
   // before it is decoded: 8192^2, 805 MB as linear floats.
   static constexpr std::size_t kMaxTexturePixels = std::size_t(kMaxImageSide) * kMaxImageSide;
+  // What all the images of one scene (or one re-texture's new ones) may take to decode, by
+  // default (ImageBudget): two 8-bit images at the pixel limit fit, three do not. A server
+  // sets its own (--max-image-memory).
+  static constexpr std::size_t kMaxImageBytes = std::size_t(2) << 30;
   static constexpr int kMaxShots = 1'000'000;
   static constexpr int kMaxGridCount = 4096;  // elements along one side of one surface
   static constexpr int kMaxAntialias = 8;

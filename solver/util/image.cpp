@@ -72,50 +72,91 @@ void write_image(const std::filesystem::path& path, const Image& image, double e
 
 namespace {
 
-// Decodes what `in` opened, named `name` in errors, after its header's size is checked.
-Image decode(OIIO::ImageInput* in, const std::string& name, std::size_t max_pixels,
+// Rounded up, so that what is refused never reads as fitting.
+std::string describe_bytes(std::size_t bytes) {
+  return bytes < 1'000'000 ? std::to_string((bytes + 999) / 1000) + " KB"
+                           : std::to_string((bytes + 999'999) / 1'000'000) + " MB";
+}
+
+}  // namespace
+
+void ImageBudget::admit(const std::string& name, int width, int height, int channels,
+                        std::size_t bytes_per_channel) {
+  const std::size_t pixels = std::size_t(width) * std::size_t(height);
+  if (max_pixels_ > 0 && pixels > max_pixels_)
+    throw std::runtime_error(name + ": " + std::to_string(width) + " x " + std::to_string(height) +
+                             " pixels, over the limit of " + std::to_string(max_pixels_));
+  const std::size_t kept = pixels * 3 * sizeof(float);
+  const std::size_t peak = kept + pixels * std::size_t(channels) * bytes_per_channel;
+  if (max_bytes_ > 0 && taken_ + peak > max_bytes_)
+    throw std::runtime_error(
+        name + ": " + std::to_string(width) + " x " + std::to_string(height) + " pixels take " +
+        describe_bytes(peak) + " to decode, over what is left of the " +
+        describe_bytes(max_bytes_) + " one scene's images may take" +
+        (taken_ > 0 ? " (" + describe_bytes(taken_) + " taken by the images before it)" : ""));
+  taken_ += kept;
+}
+
+namespace {
+
+// Decodes what `in` opened, named `name` in errors, after its header is admitted.
+Image decode(OIIO::ImageInput* in, const std::string& name, ImageBudget* budget,
              PixelMeaning meaning) {
   if (!in) throw std::runtime_error(name + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
-  const std::size_t pixels = std::size_t(spec.width) * std::size_t(spec.height);
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw std::runtime_error(name + ": the image has no pixels");
-  if (max_pixels > 0 && pixels > max_pixels)
-    throw std::runtime_error(name + ": " + std::to_string(spec.width) + " x " +
-                             std::to_string(spec.height) + " pixels, over the limit of " +
-                             std::to_string(max_pixels));
-  std::vector<float> px(pixels * std::size_t(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+  if (budget) budget->admit(name, spec.width, spec.height, spec.nchannels, spec.format.size());
+  // Straight into the image's own floats, three to a pixel: no second copy of the pixels.
+  Image img(spec.width, spec.height);
+  const int channels = spec.nchannels >= 3 ? 3 : 1;
+  constexpr OIIO::stride_t kPixel = 3 * sizeof(float);
+  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, img.rgb.data(), kPixel))
     throw std::runtime_error(name + ": " + in->geterror());
   // Integer pixels (8- and 16-bit PNG, JPEG) hold colours on the sRGB curve unless the file
   // says it is linear (a PNG's gAMA of 1.0); floats are linear.
   const std::string space = spec.get_string_attribute("oiio:ColorSpace");
   const bool srgb = meaning == PixelMeaning::Color && !spec.format.is_floating_point() &&
                     !OIIO::Strutil::istarts_with(space, "lin");
-  Image img(spec.width, spec.height);
-  for (std::size_t i = 0; i < pixels; ++i)
+  for (std::size_t i = 0; i < img.rgb.size(); i += 3)
     for (std::size_t c = 0; c < 3; ++c) {
-      float v = px[i * std::size_t(spec.nchannels) +
-                   std::min<std::size_t>(c, std::size_t(spec.nchannels) - 1)];
-      if (srgb) v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-      img.rgb[3 * i + c] = v;
+      float& v = img.rgb[i + c];
+      if (c >= std::size_t(channels))
+        v = img.rgb[i];  // grey: one value for all three
+      else if (srgb)
+        v = v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
     }
   return img;
 }
 
-}  // namespace
-
-Image read_image(const std::filesystem::path& path, std::size_t max_pixels, PixelMeaning meaning) {
-  auto in = OIIO::ImageInput::open(path.string());
-  return decode(in.get(), path.string(), max_pixels, meaning);
+// OpenImageIO multiplies colours by alpha as it reads unless told not to; bumprad's images
+// are reflectances, heights and normals, which alpha must not scale.
+const OIIO::ImageSpec& as_stored() {
+  static const OIIO::ImageSpec config = [] {
+    OIIO::ImageSpec c;
+    c.attribute("oiio:UnassociatedAlpha", 1);
+    return c;
+  }();
+  return config;
 }
 
-Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels,
+}  // namespace
+
+Image read_image(const std::filesystem::path& path, ImageBudget* budget, PixelMeaning meaning) {
+  auto in = OIIO::ImageInput::open(path.string(), &as_stored());
+  return decode(in.get(), path.string(), budget, meaning);
+}
+
+Image decode_image(std::string_view bytes, const std::string& name, ImageBudget* budget,
                    PixelMeaning meaning) {
   OIIO::Filesystem::IOMemReader reader(const_cast<char*>(bytes.data()), bytes.size());
   // OpenImageIO picks the reader by the name's extension; the bytes come through the proxy.
-  auto in = OIIO::ImageInput::open(name, nullptr, &reader);
-  return decode(in.get(), name, max_pixels, meaning);
+  // With a configuration, OpenImageIO 2.4 takes the proxy from it, not from the argument.
+  OIIO::ImageSpec config = as_stored();
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto in = OIIO::ImageInput::open(name, &config, &reader);
+  return decode(in.get(), name, budget, meaning);
 }
 
 }  // namespace bumprad

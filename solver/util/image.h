@@ -2,6 +2,7 @@
 // (linear radiance, half float) for HDR, both through OpenImageIO, both written atomically.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -41,13 +42,35 @@ void write_image(const std::filesystem::path& path, const Image& image, double e
 // normals), stored as they are: 8-bit v reads as v / 255. Float formats are linear either way.
 enum class PixelMeaning { Color, Data };
 
-// Reads any format OpenImageIO knows into linear floats. With `max_pixels`, an image whose
-// header says it is larger is refused before it is decoded.
-Image read_image(const std::filesystem::path& path, std::size_t max_pixels = 0,
+// What decoding may take while one request's images are read: every image is checked from
+// its file's header, before a pixel is decoded, against a pixel limit and against what the
+// images decoded before it have left of a byte budget. An image costs its linear floats
+// (12 bytes a pixel, kept) and, while it decodes, the decoder's buffer of the file's own
+// pixels (channels x bytes a channel); the budget holds the peak of both. A zero limit is none.
+class ImageBudget {
+ public:
+  ImageBudget() = default;
+  ImageBudget(std::size_t max_pixels, std::size_t max_bytes)
+      : max_pixels_(max_pixels), max_bytes_(max_bytes) {}
+
+  // Books an image of this shape, or throws std::runtime_error naming `name` and the limit
+  // it would pass.
+  void admit(const std::string& name, int width, int height, int channels,
+             std::size_t bytes_per_channel);
+  std::size_t taken() const { return taken_; }  // bytes the admitted images keep
+
+ private:
+  std::size_t max_pixels_ = 0, max_bytes_ = 0, taken_ = 0;
+};
+
+// Reads any format OpenImageIO knows into linear floats: the first three channels, or the
+// first repeated when there are fewer (grey, grey + alpha). With a budget, the header is
+// checked against it first.
+Image read_image(const std::filesystem::path& path, ImageBudget* budget = nullptr,
                  PixelMeaning meaning = PixelMeaning::Color);
 // The same from a file's bytes in memory (a model's embedded texture); `name` (with the
 // format's extension, e.g. "texture.png") names it in errors.
-Image decode_image(std::string_view bytes, const std::string& name, std::size_t max_pixels = 0,
+Image decode_image(std::string_view bytes, const std::string& name, ImageBudget* budget = nullptr,
                    PixelMeaning meaning = PixelMeaning::Color);
 
 }  // namespace bumprad

@@ -28,6 +28,7 @@ TEST(ServeCli, ValuesOutOfRangeAreRefusedWithTheFlagsName) {
            Case{"serve --max-queue", "--max-queue needs a value"},
            Case{"serve --colour blue", "unknown option --colour"},
            Case{"serve --store ''", "--store: empty; name a database"},
+           Case{"serve --max-image-memory 1K", "--max-image-memory: \"1K\" is out of range"},
            Case{"worker --workers 2", "--store postgresql://... is required"},
            Case{"worker --store postgresql://db/x --port 80", "--port is for bumprad serve"},
            Case{"worker --store postgresql://db/x --workers 0", "--workers: at least 1"},

@@ -478,6 +478,22 @@ TEST(ModelImport, MissingAndOversizedTexturesAreRefusedByName) {
                    "67108864"),
             std::string::npos)
       << e;
+  // Within the pixel limit, but past what the scene's images may take (#28 item 1).
+  const auto real = test::fresh_temp_dir("import-texture-budget");
+  ImageBudget budget(Limits::kMaxTexturePixels, 500'000);
+  try {
+    import_model(
+        box_with_texture(
+            real, test::read_file(kTestModels / "glTF2/BoxTextured-glTF/CesiumLogoFlat.png")),
+        {}, &budget);
+    FAIL() << "the texture (211 x 211) fits no budget of 500 KB";
+  } catch (const ModelError& error) {
+    EXPECT_NE(std::string(error.what())
+                  .find("texture \"CesiumLogoFlat.png\": 211 x 211 pixels take 668 KB to "
+                        "decode, over what is left of the 500 KB"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 }  // namespace

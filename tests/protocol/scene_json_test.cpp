@@ -406,6 +406,31 @@ TEST(SceneJson, ImageBumps) {
   expect_rejected(d, "/bumps/map/file", "is required");
 }
 
+// One scene's images share one budget (#28 item 1): images each within the pixel limit are
+// refused together, from the header of the one that would pass it, before it is decoded.
+TEST(SceneJson, AScenesImagesShareOneMemoryBudget) {
+  json d = minimal();
+  d["objects"][0]["material"] = "floor";
+  d["materials"]["floor"] = {
+      {"texture", {{"type", "image"}, {"file", write_test_image("budget.png", 0.5)}}}};
+  d["bumps"] = {{"map", {{"type", "image"}, {"file", write_test_image("budget.png", 0.5)}}}};
+  ImageFiles files;
+  // An 8 x 8 8-bit RGB image keeps 768 bytes of floats and takes 960 while it decodes.
+  files.max_image_bytes = 768 + 960 - 1;
+  expect_rejected(d, "/bumps/map/file",
+                  "budget.png: 8 x 8 pixels take 1 KB to decode, over what is left of the 2 KB "
+                  "one scene's images may take (1 KB taken by the images before it)",
+                  files);
+  files.max_image_bytes = 768 + 960;
+  EXPECT_NO_THROW(parse_scene(d, files));
+  // The bomb goes no further than its header, whatever the budget.
+  const std::string bomb = ::testing::TempDir() + "bomb.png";
+  test::write_file(bomb, test::png_bomb());
+  d["bumps"]["map"]["file"] = bomb;
+  files.max_image_bytes = std::size_t(1) << 40;
+  expect_rejected(d, "/bumps/map/file", "20000 x 20000 pixels, over the limit of 67108864", files);
+}
+
 TEST(SceneJson, PunctualLights) {
   json d = minimal();
   d["lights"] = json::parse(R"([

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "solver/util/image.h"
 #include "tests/raw_connection.h"
 #include "tests/test_command.h"
 #include "tests/test_files.h"
@@ -248,6 +250,31 @@ TEST(HostileInput, AFifoInTheAssetsIsRefused) {
   json job = json::parse(test::small_job_json(5, 5));
   job["scene"]["bumps"]["wrinkles"] = {{"type", "image"}, {"file", "pipe.png"}};
   expect_problem(c.request("POST", "/v1/jobs", job.dump()), 422, "is not a regular file",
+                 "/scene/bumps/wrinkles/file");
+  EXPECT_EQ(c.get("/healthz").status, 200);
+}
+
+// Before: a scene could name any number of images up to 8192^2 each, and the server decoded
+// them all (4.4 GB for one 16384^2 PNG before the pixel limit). Now one scene's images share
+// --max-image-memory, checked from each header before its pixels are decoded.
+TEST(HostileInput, AScenesImagesAreBoundedTogether) {
+  namespace fs = std::filesystem;
+  fs::path assets = test::fresh_temp_dir("hostile-assets");
+  Image grey(512, 512);  // 8-bit RGB: keeps 3.1 MB of floats, 3.9 MB while it decodes
+  std::fill(grey.rgb.begin(), grey.rgb.end(), 0.5f);
+  write_image(assets / "a.png", grey, 1);
+  write_image(assets / "b.png", grey, 1);
+  ServerProcess server(test::fresh_temp_dir("hostile"),
+                       {"--assets", assets.string(), "--max-image-memory", "5M"});
+  HttpClient c = server.client();
+  json job = json::parse(test::small_job_json(5, 5));
+  job["scene"]["bumps"]["wrinkles"] = {{"type", "image"}, {"file", "a.png"}};
+  EXPECT_EQ(c.request("POST", "/v1/validate", job.dump()).status, 200);
+  job["scene"]["materials"]["wall"] = {{"texture", {{"type", "image"}, {"file", "b.png"}}}};
+  expect_problem(c.request("POST", "/v1/validate", job.dump()), 422,
+                 "cannot read image: a.png: 512 x 512 pixels take 4 MB to decode, over what is "
+                 "left of the 6 MB one scene's images may take (4 MB taken by the images before "
+                 "it)",
                  "/scene/bumps/wrinkles/file");
   EXPECT_EQ(c.get("/healthz").status, 200);
 }

@@ -1,9 +1,11 @@
 // PNG and EXR files round-trip through OpenImageIO; writes are atomic.
 #include "solver/util/image.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include "tests/test_files.h"
@@ -62,6 +64,47 @@ TEST(Image, EncodesInMemoryTheBytesAFileWouldHold) {
   EXPECT_EQ(image_format_for("a.tif"), std::nullopt);
   EXPECT_EQ(mime_type(ImageFormat::Jpeg), "image/jpeg");
   EXPECT_EQ(format_name(ImageFormat::Exr), "exr");
+}
+
+// Grey and grey + alpha files read as grey in all three channels, as stored: alpha neither
+// becomes a colour nor darkens one (a normal map's or height map's alpha must not bend it).
+TEST(Image, GreyFilesReadAsGreyWhateverTheirAlpha) {
+  const fs::path p = temp_dir() / "ga.png";
+  auto out = OIIO::ImageOutput::create(p.string());
+  ASSERT_TRUE(out);
+  const std::uint8_t pixels[] = {0, 255, 128, 0, 255, 64};  // grey, alpha
+  ASSERT_TRUE(out->open(p.string(), OIIO::ImageSpec(3, 1, 2, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  ASSERT_TRUE(out->close());
+  const Image grey = read_image(p, nullptr, PixelMeaning::Data);
+  for (int x = 0; x < 3; ++x) {
+    EXPECT_DOUBLE_EQ(grey.at(x, 0).r, double(pixels[2 * x] / 255.f)) << x;
+    EXPECT_EQ(grey.at(x, 0), Rgb(grey.at(x, 0).r)) << x;
+  }
+}
+
+// The budget is checked from headers: what each image keeps adds up, and the one that would
+// pass the limit, with its decoder's buffer, is refused before it is decoded.
+TEST(Image, ABudgetRefusesTheImageThatWouldPassIt) {
+  const fs::path p = temp_dir() / "g.png";
+  write_image(p, gradient(), 1);  // 16 x 8, 8-bit RGB: keeps 1,536 bytes, 1,920 while decoding
+  ImageBudget budget(0, 1536 + 1920 - 1);
+  EXPECT_EQ(read_image(p, &budget).width, 16);
+  EXPECT_EQ(budget.taken(), 1536u);
+  try {
+    read_image(p, &budget);
+    FAIL() << "the second image fits no more";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("16 x 8 pixels take 2 KB to decode, over what is left of "
+                                         "the 4 KB one scene's images may take (2 KB taken by the "
+                                         "images before it)"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(budget.taken(), 1536u);
+  ImageBudget pixels(100, 0);
+  EXPECT_THROW(read_image(p, &pixels), std::runtime_error);  // 128 pixels, over 100
+  EXPECT_EQ(pixels.taken(), 0u);
 }
 
 TEST(Image, RefusesUnknownTypesAndLeavesNoTemporaryFiles) {
