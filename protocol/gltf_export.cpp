@@ -11,8 +11,6 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "solver/radiosity/vertex_radiosity.h"
-
 namespace bumprad {
 namespace {
 
@@ -57,13 +55,38 @@ json rgb(const Rgb& c) {
   return json::array({c.r, c.g, c.b});
 }
 
+json pair(glm::dvec2 v) {
+  return json::array({v.x, v.y});
+}
+
+// A bump function as the walkthrough evaluates it (docs/export.md); image heights and
+// normal maps are named, their images are not in the file yet.
+json bump_json(const BumpFunction& b) {
+  static constexpr const char* kTypes[] = {"noise",   "wrinkles", "bricks", "tiles",
+                                           "dimples", "cylinder", "image",  "normal_map"};
+  return {{"name", b.name},           {"type", kTypes[int(b.type)]},
+          {"amplitude", b.amplitude}, {"scale", pair(b.scale)},
+          {"offset", pair(b.offset)}, {"octaves", b.octaves},
+          {"seed", b.seed},           {"mortar", b.mortar},
+          {"radius", b.radius},       {"direction_deg", b.direction_deg},
+          {"strength", b.strength}};
+}
+
+json texture_json(const ColorTexture& t) {
+  if (t.kind != ColorTexture::Kind::Checker) return {{"type", "image"}};
+  return {{"type", "checker"},
+          {"colors", {rgb(t.colors[0]), rgb(t.colors[1])}},
+          {"scale", pair(t.scale)},
+          {"offset", pair(t.offset)}};
+}
+
 }  // namespace
 
 std::string export_glb(const Scene& scene, const Solution& solution) {
   const Mesh& mesh = *solution.mesh;
   // All of the light at the vertices, as the view pass interpolates it (buried parts of
   // elements left out): radiosity B (W/m^2), and the radiance B / pi with the exposure.
-  const std::vector<Rgb> b = vertex_radiosity(mesh, solution.display, solution.open);
+  const std::vector<Rgb> b = vertex_light(scene, solution);
   const double exposure = scene.camera.exposure;
   // The vertices elements use (a mesh may keep some no element does), renumbered; a vertex
   // whose mean normal vanished (the pole of a sphere) takes an element's own.
@@ -71,14 +94,22 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
   std::vector<std::uint32_t> index(mesh.vertices.size(), kUnused);
   std::vector<std::uint32_t> used;
   std::vector<Vec3> fallback;
+  std::vector<float> bump;  // per vertex: its object's bump function, or -1
   for (const Element& e : mesh.elements)
     for (int k = 0; k < e.vertex_count; ++k)
       if (std::uint32_t& i = index[e.v[std::size_t(k)]]; i == kUnused) {
         i = std::uint32_t(used.size());
         used.push_back(e.v[std::size_t(k)]);
         fallback.push_back(e.normal);
+        bump.push_back(float(scene.objects[e.object].bump));
       }
-  std::vector<float> position, normal, uv, color, radiosity;
+  // The perturbed map, when it is in harmonics: each vertex's 18 coefficients per channel
+  // (zero where a vertex has none), 54 floats and 2 of padding in 14 VEC4s.
+  const PerturbedMap* map = solution.map.get();
+  const bool with_map = map && map->basis().kind() == MapBasisKind::SphericalHarmonics;
+  constexpr std::size_t kMapVectors = 14;
+  std::vector<std::vector<float>> map_values(with_map ? kMapVectors : 0);
+  std::vector<float> position, normal, uv, color, radiosity, dpdu, dpdv;
   for (std::size_t j = 0; j < used.size(); ++j) {
     const std::uint32_t i = used[j];
     const Vertex& v = mesh.vertices[i];
@@ -92,6 +123,19 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
     }
     uv.push_back(float(v.uv.x));
     uv.push_back(float(v.uv.y));  // the surfaces' (u,v) are glTF's already (import keeps them)
+    if (!with_map) continue;
+    for (int k = 0; k < 3; ++k) {
+      dpdu.push_back(float(v.dpdu[k]));
+      dpdv.push_back(float(v.dpdv[k]));
+    }
+    std::array<float, 4 * kMapVectors> c{};
+    if (const std::int32_t slot = map->slot(i); slot >= 0) {
+      const auto values = map->values(std::uint32_t(slot));
+      for (std::size_t t = 0; t < values.size(); ++t)
+        for (std::size_t ch = 0; ch < 3; ++ch) c[3 * t + ch] = float(values[t][int(ch)]);
+    }
+    for (std::size_t a = 0; a < kMapVectors; ++a)
+      map_values[a].insert(map_values[a].end(), c.begin() + 4 * a, c.begin() + 4 * a + 4);
   }
   // The accessor's bounds are those of the floats written.
   std::array<float, 3> low, high;
@@ -128,18 +172,26 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
       {"COLOR_0", attribute(color, "VEC3")},
       {"_RADIOSITY", attribute(radiosity, "VEC3")},
   };
+  if (with_map) {
+    attributes["_BUMP"] = attribute(bump, "SCALAR");
+    attributes["_DPDU"] = attribute(dpdu, "VEC3");
+    attributes["_DPDV"] = attribute(dpdv, "VEC3");
+    for (std::size_t a = 0; a < kMapVectors; ++a)
+      attributes["_MAP_" + std::to_string(a)] = attribute(map_values[a], "VEC4");
+  }
   json primitives = json::array(), materials = json::array();
   for (std::size_t m = 0; m < indices.size(); ++m) {
     const Material& material = scene.materials[m];
+    json extras = {{"reflectance", rgb(material.reflectance)},
+                   {"emission", rgb(material.emission)},
+                   {"specular", material.specular},
+                   {"shininess", material.shininess}};
+    if (material.texture) extras["texture"] = texture_json(*material.texture);
     materials.push_back(
         {{"name", material.name},
          {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
          {"extensions", {{"KHR_materials_unlit", json::object()}}},
-         {"extras",
-          {{"reflectance", rgb(material.reflectance)},
-           {"emission", rgb(material.emission)},
-           {"specular", material.specular},
-           {"shininess", material.shininess}}}});
+         {"extras", extras}});
     if (indices[m].empty()) continue;
     accessors.push_back({{"bufferView", buffer.view(indices[m], kElementArrayBuffer, views)},
                          {"componentType", kUnsignedInt},
@@ -172,6 +224,15 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
        {{"exposure", exposure},
         {"units", "COLOR_0: radiance x exposure, clamped to [0, 1]; _RADIOSITY: W/m^2"}}},
   };
+  if (with_map) {
+    json bumps = json::array();
+    for (const BumpFunction& f : scene.bumps) bumps.push_back(bump_json(f));
+    gltf["extras"]["bumps"] = bumps;
+    // With exact direct light the map holds the indirect light only (the direct light's
+    // response to N' is the view pass's); with radiosity direct light, all of it.
+    gltf["extras"]["map"] = {{"basis", "harmonics: bands 0, 1, 2, 4 (docs/export.md)"},
+                             {"light", solution.direct.empty() ? "all" : "indirect"}};
+  }
   while (buffer.bytes().size() % 4) buffer.bytes().push_back(0);
   std::string text = gltf.dump();
   while (text.size() % 4) text.push_back(' ');

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Installs bumprad's Debian packages (only those missing) and builds Release into build/.
-# With --tests, also what the tests need: Chromium, Node.js (if the machine has none),
-# playwright-core and gltf-validator from the npm registry, pinned by
-# tests/web/package-lock.json, and clang for the fuzz target, built into build-fuzz/.
+# Installs bumprad's Debian packages (only those missing), Node.js if the machine has none,
+# three.js from the npm registry for the viewer's walkthrough (pinned by
+# server/web/package-lock.json, compiled into the server), and builds Release into build/.
+# With --tests, also what the tests need: Chromium, playwright-core and gltf-validator from
+# the npm registry, pinned by tests/web/package-lock.json, and clang for the fuzz target,
+# built into build-fuzz/.
 # Idempotent: a second run installs nothing and rebuilds only what changed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -10,7 +12,7 @@ cd "$(dirname "$0")/.."
 lists=(scripts/debian-packages.txt)
 [[ "${1:-}" == "--tests" ]] && lists+=(scripts/test-packages.txt)
 mapfile -t packages < <(cat "${lists[@]}" | grep -v '^#' | grep -v '^$')
-if [[ "${1:-}" == "--tests" ]] && ! command -v node >/dev/null; then
+if ! command -v npm >/dev/null; then
   packages+=(nodejs npm)
 fi
 
@@ -26,14 +28,19 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
+# npm ci reinstalls only when a lock file changed since its last install.
+npm_ci() {
+  if ! cmp -s "$1/package-lock.json" "$1/node_modules/.installed-lock.json"; then
+    (cd "$1" && npm ci --no-audit --no-fund --loglevel=error &&
+      cp package-lock.json node_modules/.installed-lock.json)
+  fi
+}
+npm_ci server/web
+
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 
 if [[ "${1:-}" == "--tests" ]]; then
   scripts/fuzz.sh --build-only  # clang, ASan and UBSan, into build-fuzz/
-  # npm ci reinstalls only when the lock file changed since the last install.
-  if ! cmp -s tests/web/package-lock.json tests/web/node_modules/.installed-lock.json; then
-    (cd tests/web && npm ci --no-audit --no-fund --loglevel=error &&
-      cp package-lock.json node_modules/.installed-lock.json)
-  fi
+  npm_ci tests/web
 fi

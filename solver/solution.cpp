@@ -203,6 +203,13 @@ SolutionView::SolutionView(const Scene& scene, const Solution& solution,
                                      keep);
 }
 
+std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution) {
+  SurfaceDetail detail;
+  detail.materials = scene.materials;
+  detail.open = solution.open;
+  return vertex_values(*solution.mesh, solution.display, detail);
+}
+
 SolutionView::SolutionView(const Scene& scene, const Solution& solution, bool keep)
     : SolutionView(scene, solution, solution.display, solution.direct, keep) {}
 

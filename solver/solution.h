@@ -91,6 +91,10 @@ class SolutionView {
   std::unique_ptr<ViewPass> view_;
 };
 
+// All of the light at the mesh's vertices (the displayed radiosity, direct light included),
+// as the view pass interpolates it (vertex_values): what an exported model carries.
+std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution);
+
 // One image: SolutionView(scene, solution, false).render(scene.bumps, stop).
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step (previews).

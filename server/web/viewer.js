@@ -438,6 +438,7 @@ async function solved(job) {
   $("retexture-panel").hidden = names.length === 0;
   $("retexture-time").textContent = "";
   if (names.length) fillBump(names[0]);
+  openWalk(job).catch((e) => showError(`walkthrough: ${e.message}`));
 }
 
 // Sliders for the bump's type, set from `bump` where it has the value; a new type keeps the
@@ -463,6 +464,7 @@ function fillBump(name, type) {
     shown.textContent = input.value;
     input.addEventListener("input", () => {
       shown.textContent = input.value;
+      walk.view?.setBump($("bump-name").value, currentBump());
       render("draft");
       settleSoon();
     });
@@ -541,6 +543,44 @@ async function pump() {
   }
 }
 
+// ---- Walkthrough (walkthrough.js, a module: it may load after this script) -------------------
+
+const walk = { view: null };
+window.walk = walk;
+
+function walkthroughLoaded() {
+  if (window.Walkthrough) return Promise.resolve();
+  return new Promise((resolve) => window.addEventListener("walkthrough-ready", resolve, { once: true }));
+}
+
+// The job's model in WebGL at the scene camera's size, fitted to the page's width.
+async function openWalk(job) {
+  await walkthroughLoaded();
+  const camera = state.scene.camera || {};
+  let width = camera.width || 512, height = camera.height || 512;
+  const fit = Math.min(1, 960 / width);
+  width = Math.round(width * fit);
+  height = Math.round(height * fit);
+  walk.view = walk.view || new window.Walkthrough($("walk"));
+  await walk.view.open(job.id, width, height);
+  walk.job = job.id;
+  $("walk-panel").hidden = false;
+  $("walk-info").textContent = `${width} x ${height}`;
+}
+
+async function renderHere() {
+  const body = { camera: walk.view.cameraChanges(), format: "png" };
+  if ($("bump-name").value) body.bumps = { [$("bump-name").value]: currentBump() };
+  const response = await fetch(`/v1/jobs/${walk.job}/retexture`, {
+    method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body),
+  });
+  if (response.status !== 200) return showError(problemText(await problemOf(response)));
+  const old = $("walk-server").src;
+  $("walk-server").src = URL.createObjectURL(await response.blob());
+  $("walk-server").hidden = false;
+  if (old.startsWith("blob:")) URL.revokeObjectURL(old);
+}
+
 function split() {
   $("after").style.clipPath = `inset(0 0 0 ${$("split").value}%)`;
 }
@@ -572,6 +612,8 @@ $("bump-type").addEventListener("change", () => {
   render("final");
 });
 $("split").addEventListener("input", split);
+$("walk-reset").addEventListener("click", () => walk.view?.reset());
+$("walk-render").addEventListener("click", () => renderHere().catch((e) => showError(e.message)));
 split();
 loadScenes().catch((e) => showError(`Cannot list the scenes: ${e.message}`));
 refreshJobs().catch((e) => showError(`Cannot list the jobs: ${e.message}`));

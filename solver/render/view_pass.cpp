@@ -33,34 +33,6 @@ struct SurfacePoint {
   Rgb radiosity;
 };
 
-// The vertices' radiosity. An element partly buried (open_share() < 1) received its light
-// on its open part alone (a shooter sees only that part), spread over its whole area: over
-// the open part its reflected radiosity is (B - E) / open. A textured element reflected
-// with its own mean reflectance (element_reflectance()): its reflected part is brought to
-// the texture's mean, so that vertices interpolate the light arriving, not the checker, and
-// shade() scales it by rho(u,v) / mean per pixel.
-std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
-                               const SurfaceDetail& detail) {
-  if (detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
-  const std::vector<Rgb> rho = element_reflectance(mesh, detail.materials);
-  std::vector<Rgb> mean(detail.materials.size());  // per textured material, once: an image
-  for (std::size_t k = 0; k < mean.size(); ++k)    // texture's mean reads all its texels
-    if (detail.materials[k].texture) mean[k] = texture_mean(*detail.materials[k].texture);
-  std::vector<Rgb> values(radiosity.begin(), radiosity.end());
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const std::size_t material = std::size_t(mesh.elements[i].material);
-    const Material& m = detail.materials[material];
-    Rgb reflected = values[i] - m.emission;
-    if (!detail.open.empty() && detail.open[i] > 0 && detail.open[i] < 1)
-      reflected /= detail.open[i];
-    if (m.texture)
-      for (int c = 0; c < 3; ++c)
-        if (rho[i][c] > 0) reflected[c] *= mean[material][c] / rho[i][c];
-    values[i] = m.emission + reflected;
-  }
-  return vertex_radiosity(mesh, values, detail.open);
-}
-
 // A ray drawn from a glossy lobe with density `pdf`, `travelled` from the glossy surface
 // when it met a planar mirror (`pdf` 0: any other ray).
 struct LobeRay {
@@ -312,6 +284,28 @@ struct Row {
 };
 
 }  // namespace
+
+std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
+                               const SurfaceDetail& detail) {
+  if (detail.materials.empty()) return vertex_radiosity(mesh, radiosity);
+  const std::vector<Rgb> rho = element_reflectance(mesh, detail.materials);
+  std::vector<Rgb> mean(detail.materials.size());  // per textured material, once: an image
+  for (std::size_t k = 0; k < mean.size(); ++k)    // texture's mean reads all its texels
+    if (detail.materials[k].texture) mean[k] = texture_mean(*detail.materials[k].texture);
+  std::vector<Rgb> values(radiosity.begin(), radiosity.end());
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const std::size_t material = std::size_t(mesh.elements[i].material);
+    const Material& m = detail.materials[material];
+    Rgb reflected = values[i] - m.emission;
+    if (!detail.open.empty() && detail.open[i] > 0 && detail.open[i] < 1)
+      reflected /= detail.open[i];
+    if (m.texture)
+      for (int c = 0; c < 3; ++c)
+        if (rho[i][c] > 0) reflected[c] *= mean[material][c] / rho[i][c];
+    values[i] = m.emission + reflected;
+  }
+  return vertex_radiosity(mesh, values, detail.open);
+}
 
 struct ViewPass::Impl {
   Impl(const Mesh& mesh, const RayScene& rays, const Camera& camera,

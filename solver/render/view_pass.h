@@ -33,6 +33,16 @@ struct SurfaceDetail {
   std::span<const Rgb> reflected;
 };
 
+// The radiosity at the mesh's vertices that the view pass interpolates. An element partly
+// buried (open_share() < 1) received its light on its open part alone (a shooter sees only
+// that part), spread over its whole area: over the open part its reflected radiosity is
+// (B - E) / open. A textured element reflected with its own mean reflectance
+// (element_reflectance()): its reflected part is brought to the texture's mean, so that
+// vertices interpolate the light arriving, not the checker, and the view pass scales it by
+// rho(u,v) / mean per pixel.
+std::vector<Rgb> vertex_values(const Mesh& mesh, std::span<const Rgb> radiosity,
+                               const SurfaceDetail& detail);
+
 // `element_radiosity` is per element (e.g. a Snapshot's). Back faces and misses are black.
 // A bumpy point shows its vertices' radiosity plus the map's change from N to the perturbed
 // N' (so a zero-amplitude bump renders as no bump, to single precision), interpolated across the

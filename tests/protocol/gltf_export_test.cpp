@@ -10,7 +10,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "solver/radiosity/vertex_radiosity.h"
 #include "tests/test_scenes.h"
 
 namespace bumprad {
@@ -20,6 +19,27 @@ std::uint32_t u32(const std::string& bytes, std::size_t at) {
   std::uint32_t v;
   std::memcpy(&v, bytes.data() + at, 4);
   return v;
+}
+
+// A .glb's JSON and the floats of its first primitive's attributes.
+struct Glb {
+  std::vector<float> floats(const std::string& name) const {
+    const auto& primitive = json["meshes"][0]["primitives"][0];
+    const auto& a = json["accessors"][primitive["attributes"][name].get<std::size_t>()];
+    const auto& view = json["bufferViews"][a["bufferView"].get<std::size_t>()];
+    std::vector<float> out(view["byteLength"].get<std::size_t>() / sizeof(float));
+    std::memcpy(out.data(), bytes.data() + bin + view["byteOffset"].get<std::size_t>(),
+                out.size() * sizeof(float));
+    return out;
+  }
+  std::string bytes;
+  nlohmann::json json;
+  std::size_t bin = 0;
+};
+
+Glb read_glb(const std::string& bytes) {
+  const std::uint32_t length = u32(bytes, 12);
+  return {bytes, nlohmann::json::parse(bytes.substr(20, length)), 20 + std::size_t(length) + 8};
 }
 
 TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
@@ -77,7 +97,7 @@ TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
   };
   const std::vector<float> color = floats("COLOR_0"), radiosity = floats("_RADIOSITY"),
                            position = floats("POSITION");
-  const std::vector<Rgb> b = vertex_radiosity(mesh, solution.display, solution.open);
+  const std::vector<Rgb> b = vertex_light(s, solution);
   int lit = 0;
   for (std::size_t j = 0; j < order.size(); ++j)
     for (int k = 0; k < 3; ++k) {
@@ -89,6 +109,69 @@ TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
       lit += radiance > 0.01 && radiance < 1;
     }
   EXPECT_GT(lit, 30) << "the floor's light shows in COLOR_0 unclamped";
+}
+
+// The perturbed map in the file gives what the view pass shows at any N': a bumpy vertex's
+// B + sum_j C_j (Y_j(N') - Y_j(N)) from _RADIOSITY and _MAP_0.._MAP_13 (docs/export.md) is
+// the solver's own B + B'(N') - B'(N), to single precision.
+TEST(GltfExport, TheMapInTheFileShadesPerturbedNormalsAsTheSolverDoes) {
+  auto lamp = test::rectangle_facing_down(0.6, 0.6, 1.5);
+  auto f = test::rectangle_facing_down(3, 3, 0);
+  Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), test::quad({f[3], f[2], f[1], f[0]}, 6, 6)});
+  Material light;
+  light.emission = Rgb(20);
+  s.materials.push_back(light);
+  BumpFunction bricks;
+  bricks.name = "bricks";
+  bricks.type = BumpType::Bricks;
+  s.bumps.push_back(bricks);
+  s.objects[1].bump = 0;
+  s.solver.direct_light = DirectLight::Radiosity;
+  s.solver.max_shots = 20;
+  const Solution solution = solve(s);
+  ASSERT_TRUE(solution.map);
+  const Glb glb = read_glb(export_glb(s, solution));
+  EXPECT_EQ(glb.json["extras"]["bumps"][0]["type"], "bricks");
+  EXPECT_EQ(glb.json["extras"]["map"]["light"], "all");
+
+  const Mesh& mesh = *solution.mesh;
+  std::vector<std::uint32_t> order;  // the file's vertices, as mesh vertices
+  std::vector<bool> seen(mesh.vertices.size(), false);
+  for (const Element& e : mesh.elements)
+    for (int k = 0; k < e.vertex_count; ++k)
+      if (!seen[e.v[std::size_t(k)]]) {
+        seen[e.v[std::size_t(k)]] = true;
+        order.push_back(e.v[std::size_t(k)]);
+      }
+  const std::vector<float> radiosity = glb.floats("_RADIOSITY"), bump = glb.floats("_BUMP"),
+                           dpdu = glb.floats("_DPDU");
+  std::vector<std::vector<float>> map;
+  for (int a = 0; a < 14; ++a) map.push_back(glb.floats("_MAP_" + std::to_string(a)));
+  const std::vector<Rgb> b = vertex_light(s, solution);
+  const MapBasis& basis = solution.map->basis();
+  const Vec3 tilted = glm::normalize(Vec3(0.5, -0.3, 0.8));
+  const MapTerms at = basis.evaluate(tilted), flat = basis.evaluate(Vec3(0, 0, 1));
+  int bumpy = 0;
+  for (std::size_t j = 0; j < order.size(); ++j) {
+    const std::uint32_t i = order[j];
+    const std::int32_t slot = solution.map->slot(i);
+    EXPECT_EQ(bump[j], slot >= 0 ? 0.f : -1.f) << j;
+    EXPECT_EQ(dpdu[3 * j], float(mesh.vertices[i].dpdu.x)) << j;
+    if (slot < 0) continue;
+    ++bumpy;
+    const Rgb expected = b[i] + solution.map->value(std::uint32_t(slot), at) -
+                         solution.map->value(std::uint32_t(slot), flat);
+    for (int c = 0; c < 3; ++c) {
+      double shaded = radiosity[3 * j + std::size_t(c)];
+      for (int t = 0; t < 18; ++t) {
+        const std::size_t k = std::size_t(3 * t + c);
+        shaded +=
+            map[k / 4][4 * j + k % 4] * (at.weight[std::size_t(t)] - flat.weight[std::size_t(t)]);
+      }
+      EXPECT_NEAR(shaded, expected[c], 1e-5 * std::max(1.0, expected[c])) << j << " " << c;
+    }
+  }
+  EXPECT_EQ(bumpy, int(solution.map->vertex_count()));
 }
 
 }  // namespace

@@ -3,17 +3,12 @@
 // validated with no errors and no warnings. Usage:
 //   node tests/web/gltf_validate_test.mjs BUMPRAD_BIN WORK_DIR
 import { execFileSync } from "node:child_process";
-import { mkdirSync, readFileSync, rmSync } from "node:fs";
+import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { validateBytes } from "gltf-validator";
+import { args } from "./harness.mjs";
 
-const [bin, work] = process.argv.slice(2);
-if (!bin || !work) {
-  console.error("usage: node gltf_validate_test.mjs BUMPRAD_BIN WORK_DIR");
-  process.exit(2);
-}
-rmSync(work, { recursive: true, force: true });
-mkdirSync(work, { recursive: true });
+const { bin, work } = args("gltf_validate_test.mjs");
 
 for (const scene of ["builtin:wrinkled-box", "builtin:paper-room"]) {
   const solution = join(work, "scene.bumprad"), model = join(work, "scene.glb");

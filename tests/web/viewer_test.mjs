@@ -3,41 +3,13 @@
 // stream, progress and convergence curve, the job list's downloads, then a dragged slider
 // re-texturing live and a split before/after view, and a model dropped on the page. Usage:
 //   node tests/web/viewer_test.mjs BUMPRAD_BIN WORK_DIR
-import { spawn } from "node:child_process";
-import { mkdirSync, readFileSync, rmSync } from "node:fs";
+import { readFileSync } from "node:fs";
 import { join } from "node:path";
-import { chromium } from "playwright-core";
+import { args, check, launchBrowser, startServer } from "./harness.mjs";
 
-const [bin, work] = process.argv.slice(2);
-if (!bin || !work) {
-  console.error("usage: node viewer_test.mjs BUMPRAD_BIN WORK_DIR");
-  process.exit(2);
-}
-rmSync(work, { recursive: true, force: true });
-mkdirSync(work, { recursive: true });
-
-function check(condition, message) {
-  if (!condition) throw new Error(`FAILED: ${message}`);
-  console.log(`ok: ${message}`);
-}
-
-// The real server on a free loopback port.
-const server = spawn(bin, ["serve", "--port", "0", "--data-dir", join(work, "data")], {
-  stdio: ["ignore", "pipe", "inherit"],
-});
-const base = await new Promise((resolve, reject) => {
-  server.on("exit", (code) => reject(new Error(`the server exited (${code})`)));
-  server.stdout.on("data", (chunk) => {
-    const m = /listening on (http:\/\/[0-9.]+:\d+)/.exec(chunk.toString());
-    if (m) resolve(m[1]);
-  });
-});
-
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
-  args: ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync"],
-});
+const { bin, work } = args("viewer_test.mjs");
+const { server, base } = await startServer(bin, work);
+const browser = await launchBrowser();
 let failed = false;
 try {
   const page = await browser.newPage();
@@ -100,6 +72,11 @@ try {
   await page.waitForFunction(() => document.getElementById("before").naturalWidth > 0);
   check(await page.$eval("#bump-name", (s) => s.value) === "wrinkles",
         "the scene's bump function is offered for editing");
+  // The walkthrough opens on the done job (its accuracy: walkthrough_test.mjs); a slider
+  // moves it too, and its view renders on the server on request.
+  await page.waitForSelector("#walk-panel", { state: "visible" });
+  const walkFrames = () => page.evaluate(() => window.walk.view.drawn);
+  const framesBefore = await walkFrames();
 
   // Drag the amplitude slider: drafts follow it, a full-quality image ends it.
   const t0 = Date.now();
@@ -118,6 +95,10 @@ try {
   const seconds = (Date.now() - t0) / 1000;
   console.log(`info: ${stats.drafts} drafts in ${seconds.toFixed(1)} s of dragging and settling`);
   check(stats.drafts >= 2, "drafts followed the slider");
+  check((await walkFrames()) > framesBefore + 20, "the walkthrough drew a frame at each slider move");
+  await page.click("#walk-render");
+  await page.waitForFunction(() => document.getElementById("walk-server").naturalWidth > 0);
+  check(true, "the server renders the walkthrough's view on request");
   check(await page.isVisible("#after"), "the re-textured image is shown");
   check((await page.textContent("#retexture-time")).startsWith("full quality"),
         "the image at rest is full quality");
