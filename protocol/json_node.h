@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <initializer_list>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -38,6 +39,34 @@ inline std::string escape_token(std::string_view key) {
   return out;
 }
 
+// Edits (insertions, deletions, substitutions) between two keys, for "did you mean".
+inline std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+// The candidate a misspelt `key` most likely meant: within two edits (one for short keys).
+template <typename Keys>
+std::optional<std::string> likely_meant(std::string_view key, const Keys& candidates) {
+  std::optional<std::string> best;
+  std::size_t best_distance = key.size() <= 4 ? 2 : 3;
+  for (const auto& c : candidates) {
+    const std::size_t d = edit_distance(key, c);
+    if (d > 0 && d < best_distance) best = std::string(c), best_distance = d;
+  }
+  return best;
+}
+
 class Node {
  public:
   using json = nlohmann::json;
@@ -52,6 +81,13 @@ class Node {
     auto it = object().find(std::string(key));
     if (it == value_.end()) {
       Node missing(value_, pointer_ + "/" + escape_token(key));
+      std::vector<std::string> present;
+      for (auto k = value_.begin(); k != value_.end(); ++k) present.push_back(k.key());
+      std::vector<std::string_view> wanted{key};
+      for (const std::string& p : present)
+        if (likely_meant(p, wanted))
+          missing.fail("is required (the object has \"" + p + "\": a misspelling of \"" +
+                       std::string(key) + "\"?)");
       missing.fail("is required");
     }
     return Node(*it, pointer_ + "/" + escape_token(key));
@@ -75,9 +111,11 @@ class Node {
       if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
       std::string list;
       for (auto k : keys) list += (list.empty() ? "" : ", ") + std::string(k);
+      const auto meant = likely_meant(it.key(), keys);
       Node(*it, pointer_ + "/" + escape_token(it.key()))
-          .fail("unknown key" + (what.empty() ? "" : " for a " + what) +
-                " (expected one of: " + list + ")");
+          .fail("unknown key" + (what.empty() ? "" : " for a " + what) + " (" +
+                (meant ? "did you mean \"" + *meant + "\"? " : std::string()) +
+                "expected one of: " + list + ")");
     }
   }
   std::size_t array(std::size_t min, std::size_t max) const {

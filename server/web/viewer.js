@@ -339,7 +339,21 @@ function show(job) {
   $("live-wait").hidden = false;
   $("live").src = `/v1/jobs/${job.id}/stream`;
   drawCurve();
+  state.target = 0.01;  // the solver's default, until the job's scene says otherwise
+  getJson(`/v1/jobs/${job.id}/scene`)
+    .then((scene) => { state.target = scene.solver?.unshot_fraction ?? 0.01; })
+    .catch(() => {});
   follow(job);
+}
+
+// The way to the solve's end: unshot power falls roughly exponentially with shots, so the
+// bar follows log(unshot) from 1 down to the scene's target, or the shot cap if that comes
+// first. Once either is reached the final image renders: its own phase.
+function progressOf(step) {
+  const byShots = step.max_shots ? step.shots / step.max_shots : 0;
+  const target = state.target > 0 && state.target < 1 ? state.target : 0.01;
+  const byUnshot = step.unshot_fraction > 0 ? Math.log(step.unshot_fraction) / Math.log(target) : 1;
+  return Math.min(1, Math.max(byShots, byUnshot, 0));
 }
 
 function showProgress(step) {
@@ -347,9 +361,13 @@ function showProgress(step) {
     $("live").hidden = false;
     $("live-wait").hidden = true;
   }
-  $("progress").value = step.max_shots ? step.shots / step.max_shots : 0;
+  const progress = progressOf(step);
+  $("progress").value = progress;
+  // Step events carry no state: they come while the job runs.
+  const phase = progress >= 1 && (step.state ?? "running") === "running" ? "; rendering the final image" : "";
   $("progress-text").textContent =
-    `${step.shots}/${step.max_shots} shots, ${(100 * step.unshot_fraction).toFixed(1)}% unshot`;
+    `${step.shots}/${step.max_shots} shots, ${(100 * step.unshot_fraction).toFixed(1)}% unshot ` +
+    `(target ${(100 * state.target).toFixed(1)}%)${phase}`;
   const now = performance.now();
   if (!state.started) state.started = now;
   const last = state.curve[state.curve.length - 1];

@@ -107,6 +107,16 @@ TEST(SceneJson, UnknownKeys) {
   d = minimal();
   d["materials"]["white"]["color"] = 1;
   expect_rejected(d, "/materials/white/color", "unknown key");
+  // A misspelt key is named as one, whether its object is read key by key or checked first.
+  d = minimal();
+  d["objects"][0]["typ"] = "quad";
+  d["objects"][0].erase("type");
+  expect_rejected(d, "/objects/0/type",
+                  "is required (the object has \"typ\": a misspelling of \"type\"?)");
+  d = minimal();
+  d["camera"]["exposur"] = 2;
+  expect_rejected(d, "/camera/exposur",
+                  "unknown key (did you mean \"exposure\"? expected one of: position");
 }
 
 TEST(SceneJson, WrongTypes) {

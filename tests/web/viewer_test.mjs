@@ -44,8 +44,10 @@ try {
   check(said.startsWith("Line 7: /scene/objects/0/size/1: must be greater than 0"),
         `an invalid value is shown at its line (${said})`);
   await page.fill("#scene-json", scene.replace('"m",', '"m"'));
-  await page.waitForFunction(() => /^Line 6: malformed/.test(document.getElementById("scene-check").textContent));
-  check(true, "malformed JSON is shown at its line");
+  await page.waitForFunction(() => /^Line \d+: malformed/.test(document.getElementById("scene-check").textContent));
+  said = await page.textContent("#scene-check");
+  check(/^Line 5: malformed JSON at byte \d+: a comma is missing after this value/.test(said),
+        `a missing comma is shown at the line that needs it (${said})`);
 
   // Submit a built-in scene: the first frame, the progress bar, the convergence curve.
   await page.check("#use-builtin");
@@ -58,6 +60,14 @@ try {
   await page.waitForFunction(() => document.getElementById("state").textContent === "done", null,
                              { timeout: 120000 });
   check(await page.$eval("#progress", (p) => p.value) === 1, "the progress bar is full");
+  // Progress is the way down to the unshot target (log scale), or the shot cap if nearer.
+  const halfway = await page.evaluate(() => {
+    state.target = 0.01;
+    return [progressOf({ shots: 10, max_shots: 1000, unshot_fraction: 0.1 }),
+            progressOf({ shots: 900, max_shots: 1000, unshot_fraction: 0.5 })];
+  });
+  check(Math.abs(halfway[0] - 0.5) < 1e-9 && Math.abs(halfway[1] - 0.9) < 1e-9,
+        `progress follows the unshot power to its target, or the shot cap (${halfway})`);
   check(Number(await page.$eval("#curve", (s) => s.dataset.points)) >= 2,
         "the convergence curve has a point per step");
   await page.selectOption("#curve-axis", "seconds");
