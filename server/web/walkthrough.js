@@ -196,7 +196,7 @@ float srgb(float x) {
 void main() {
   vec3 n = normalize(vNormal);
   vec3 b = vRadiosity;
-  if (hasMap && vBump >= 0) {
+  if (hasMap && vBump >= 0 && vBump < ${kMaxBumps}) {  // more bump functions show smooth
     vec3 np = perturbed(vBump, n);
     // The map's frame: N, dP/du made perpendicular (perturbed_map.cpp's tangent_frame).
     vec3 t = vDpdu - n * dot(n, vDpdu);

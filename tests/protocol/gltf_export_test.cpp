@@ -42,15 +42,34 @@ Glb read_glb(const std::string& bytes) {
   return {bytes, nlohmann::json::parse(bytes.substr(20, length)), 20 + std::size_t(length) + 8};
 }
 
-TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
+// A lamp over a 6 x 6-element floor (object 1).
+Scene lit_floor() {
   auto lamp = test::rectangle_facing_down(0.6, 0.6, 1.5);
   auto f = test::rectangle_facing_down(3, 3, 0);
   Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), test::quad({f[3], f[2], f[1], f[0]}, 6, 6)});
   Material light;
   light.emission = Rgb(20);
   s.materials.push_back(light);
-  s.camera.exposure = 2;
   s.solver.max_shots = 20;
+  return s;
+}
+
+// The mesh vertices in the file's order: as the elements first use them (docs/export.md).
+std::vector<std::uint32_t> file_order(const Mesh& mesh) {
+  std::vector<std::uint32_t> order;
+  std::vector<bool> seen(mesh.vertices.size(), false);
+  for (const Element& e : mesh.elements)
+    for (int k = 0; k < e.vertex_count; ++k)
+      if (!seen[e.v[std::size_t(k)]]) {
+        seen[e.v[std::size_t(k)]] = true;
+        order.push_back(e.v[std::size_t(k)]);
+      }
+  return order;
+}
+
+TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
+  Scene s = lit_floor();
+  s.camera.exposure = 2;
   const Solution solution = solve(s);
   const std::string glb = export_glb(s, solution);
 
@@ -76,15 +95,7 @@ TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
   EXPECT_EQ(indices, 3 * triangles);
   EXPECT_EQ(gltf["nodes"][1]["camera"], 0);
 
-  // The vertices in the order the elements first use them (docs/export.md).
-  std::vector<std::uint32_t> order;
-  std::vector<bool> seen(mesh.vertices.size(), false);
-  for (const Element& e : mesh.elements)
-    for (int k = 0; k < e.vertex_count; ++k)
-      if (!seen[e.v[std::size_t(k)]]) {
-        seen[e.v[std::size_t(k)]] = true;
-        order.push_back(e.v[std::size_t(k)]);
-      }
+  const std::vector<std::uint32_t> order = file_order(mesh);
   // The floats of one VEC3 attribute, vertex by vertex.
   auto floats = [&](const char* name) {
     const auto& a = gltf["accessors"][primitives[0]["attributes"][name].get<std::size_t>()];
@@ -115,19 +126,13 @@ TEST(GltfExport, TheModelCarriesEachVertexsLightAndTheMesh) {
 // B + sum_j C_j (Y_j(N') - Y_j(N)) from _RADIOSITY and _MAP_0.._MAP_13 (docs/export.md) is
 // the solver's own B + B'(N') - B'(N), to single precision.
 TEST(GltfExport, TheMapInTheFileShadesPerturbedNormalsAsTheSolverDoes) {
-  auto lamp = test::rectangle_facing_down(0.6, 0.6, 1.5);
-  auto f = test::rectangle_facing_down(3, 3, 0);
-  Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), test::quad({f[3], f[2], f[1], f[0]}, 6, 6)});
-  Material light;
-  light.emission = Rgb(20);
-  s.materials.push_back(light);
+  Scene s = lit_floor();
   BumpFunction bricks;
   bricks.name = "bricks";
   bricks.type = BumpType::Bricks;
   s.bumps.push_back(bricks);
   s.objects[1].bump = 0;
   s.solver.direct_light = DirectLight::Radiosity;
-  s.solver.max_shots = 20;
   const Solution solution = solve(s);
   ASSERT_TRUE(solution.map);
   const Glb glb = read_glb(export_glb(s, solution));
@@ -135,14 +140,7 @@ TEST(GltfExport, TheMapInTheFileShadesPerturbedNormalsAsTheSolverDoes) {
   EXPECT_EQ(glb.json["extras"]["map"]["light"], "all");
 
   const Mesh& mesh = *solution.mesh;
-  std::vector<std::uint32_t> order;  // the file's vertices, as mesh vertices
-  std::vector<bool> seen(mesh.vertices.size(), false);
-  for (const Element& e : mesh.elements)
-    for (int k = 0; k < e.vertex_count; ++k)
-      if (!seen[e.v[std::size_t(k)]]) {
-        seen[e.v[std::size_t(k)]] = true;
-        order.push_back(e.v[std::size_t(k)]);
-      }
+  const std::vector<std::uint32_t> order = file_order(mesh);
   const std::vector<float> radiosity = glb.floats("_RADIOSITY"), bump = glb.floats("_BUMP"),
                            dpdu = glb.floats("_DPDU");
   std::vector<std::vector<float>> map;

@@ -247,10 +247,10 @@ TEST_F(Postgres, ACancelReachesTheWorkerAndAStoppingWorkerReturnsItsJob) {
   EXPECT_EQ(api.store->find(id)->state, JobState::Queued);
   Node next(node(url, 1));
   test::wait_for(*api.store, id, JobState::Running);
-  const auto asked = std::chrono::steady_clock::now();
+  // The endless job ends only by the cancel reaching its worker (no lease runs out meanwhile:
+  // the worker renews it). The wait is generous, so the test does not race the machine.
   EXPECT_EQ(answer(api, request(verb::delete_, "/v1/jobs/" + id)).result_int(), 202);
-  test::wait_for(*api.store, id, JobState::Cancelled, 5);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count(), 2);
+  test::wait_for(*api.store, id, JobState::Cancelled);
 }
 
 // The real binaries: two API nodes, three worker processes, 100 jobs. api2 streams events

@@ -1,6 +1,6 @@
 // What the browser and Node tests share: their arguments (the bumprad binary and a work
 // directory, emptied), a check that logs what held, the real server on a free loopback port,
-// and Debian's headless Chromium with SwiftShader's WebGL (no GPU needed).
+// and a run in Debian's headless Chromium with SwiftShader's WebGL (no GPU needed).
 import { spawn } from "node:child_process";
 import { mkdirSync, rmSync } from "node:fs";
 import { join } from "node:path";
@@ -39,11 +39,28 @@ export async function startServer(bin, work) {
   return { server, base };
 }
 
-export function launchBrowser() {
+function launchBrowser() {
   return chromium.launch({
     executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
     args: ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
            "--disable-quic", "--no-first-run", "--disable-background-networking",
            "--disable-component-update", "--disable-sync"],
   });
+}
+
+// Runs `body(browser)` in a fresh headless Chromium, then closes it and stops `server`; exits
+// 1 when the body threw (its message printed), else 0.
+export async function inBrowser(server, body) {
+  const browser = await launchBrowser();
+  let failed = false;
+  try {
+    await body(browser);
+  } catch (e) {
+    console.error(e.message);
+    failed = true;
+  } finally {
+    await browser.close();
+    server.kill("SIGTERM");
+  }
+  process.exit(failed ? 1 : 0);
 }

@@ -5,13 +5,11 @@
 //   node tests/web/viewer_test.mjs BUMPRAD_BIN WORK_DIR
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
-import { args, check, launchBrowser, startServer } from "./harness.mjs";
+import { args, check, inBrowser, startServer } from "./harness.mjs";
 
 const { bin, work } = args("viewer_test.mjs");
 const { server, base } = await startServer(bin, work);
-const browser = await launchBrowser();
-let failed = false;
-try {
+await inBrowser(server, async (browser) => {
   const page = await browser.newPage();
   const errors = [];
   page.on("pageerror", (e) => errors.push(e.message));
@@ -174,11 +172,4 @@ try {
   server.kill("SIGTERM");
   await page.waitForSelector("#offline", { state: "visible", timeout: 15000 });
   check(true, "a banner says when the server cannot be reached");
-} catch (e) {
-  console.error(e.message);
-  failed = true;
-} finally {
-  await browser.close();
-  server.kill("SIGTERM");
-}
-process.exit(failed ? 1 : 0);
+});

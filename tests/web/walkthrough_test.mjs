@@ -5,7 +5,7 @@
 // and frames a second while the slider moves are measured. Usage:
 //   node tests/web/walkthrough_test.mjs BUMPRAD_BIN WORK_DIR
 import { readFileSync } from "node:fs";
-import { args, check, launchBrowser, startServer } from "./harness.mjs";
+import { args, check, inBrowser, startServer } from "./harness.mjs";
 
 const { bin, work } = args("walkthrough_test.mjs");
 const { server, base } = await startServer(bin, work);
@@ -27,9 +27,7 @@ for (;;) {
   await new Promise((r) => setTimeout(r, 200));
 }
 
-const browser = await launchBrowser();
-let failed = false;
-try {
+await inBrowser(server, async (browser) => {
   const page = await browser.newPage();
   const errors = [];
   page.on("pageerror", (e) => errors.push(e.message));
@@ -121,11 +119,4 @@ try {
   check(result.bricks < 0.02, "with new bumps too (re-textured by the server, live in the walkthrough)");
   check(result.unlike > 0.025, "and the bumps' change is larger than that bound");
   check(errors.length === 0, `no page errors (${errors.join("; ")})`);
-} catch (e) {
-  console.error(e.message);
-  failed = true;
-} finally {
-  await browser.close();
-  server.kill("SIGTERM");
-}
-process.exit(failed ? 1 : 0);
+});
