@@ -41,7 +41,7 @@ std::string step_url(const std::string& id, int step) {
 
 namespace {
 
-json job_document(const JobRecord& j) {
+json job_document(const JobRecord& j, bool with_history) {
   const std::string self = job_url(j.id);
   json links = {{"self", self},
                 {"preview", self + "/preview"},
@@ -77,18 +77,33 @@ json job_document(const JobRecord& j) {
                             {"standard_error", j.estimated_error_se}};
   if (!j.error.empty()) d["error"] = j.error;
   if (!j.warnings.empty()) d["warnings"] = j.warnings;
+  if (with_history && !j.history.empty()) {
+    json points = json::array();
+    for (const ProgressPoint& p : j.history) points.push_back({p.shots, p.seconds, p.unshot});
+    d["history"] = points;  // [shots, seconds, unshot] a step
+  }
   return d;
 }
 
 }  // namespace
 
+void add_progress(JobRecord& job, const ProgressPoint& point) {
+  auto& h = job.history;
+  if (h.size() >= JobRecord::kMaxHistory) {
+    std::size_t kept = 1;  // the first point stays; of the rest, every other
+    for (std::size_t i = 2; i < h.size(); i += 2) h[kept++] = h[i];
+    h.resize(kept);
+  }
+  h.push_back(point);
+}
+
 std::string job_to_json(const JobRecord& job) {
-  return job_document(job).dump();
+  return job_document(job, true).dump();
 }
 
 std::string jobs_to_json(const std::vector<JobRecord>& jobs) {
   json list = json::array();
-  for (const JobRecord& j : jobs) list.push_back(job_document(j));
+  for (const JobRecord& j : jobs) list.push_back(job_document(j, false));
   return json{{"jobs", list}}.dump();
 }
 
@@ -137,6 +152,12 @@ JobRecord job_from_json(std::string_view text) {
   if (auto w = n.get("warnings"))
     for (std::size_t i = 0, count = w->array(0, 10'000); i < count; ++i)
       j.warnings.push_back((*w)[i].string());
+  if (auto h = n.get("history"))
+    for (std::size_t i = 0, count = h->array(0, JobRecord::kMaxHistory); i < count; ++i) {
+      const Node p = (*h)[i];
+      p.array(3, 3);
+      j.history.push_back({int(p[0].integer(0, kMaxInt)), p[1].number(), p[2].number()});
+    }
   return j;
 }
 

@@ -20,6 +20,14 @@ std::optional<JobState> job_state_from(std::string_view name);
 // Done, failed, cancelled and interrupted jobs do no more work.
 bool is_finished(JobState state);
 
+// One point of a job's convergence curve: after `shots` shots, `seconds` into its solve,
+// `unshot` of the emitted power was still unshot.
+struct ProgressPoint {
+  int shots = 0;
+  double seconds = 0, unshot = 1;
+  bool operator==(const ProgressPoint&) const = default;
+};
+
 // What the server knows of one job. Times are Unix seconds; 0 means not yet.
 struct JobRecord {
   std::string id;
@@ -39,7 +47,15 @@ struct JobRecord {
   // What the job's models dropped or assumed (from the submission), and what its render
   // shows amiss (surfaces seen from behind, from the solve): one line each.
   std::vector<std::string> warnings;
+  // Its convergence curve, a point per refinement step (thinned: at most kMaxHistory), so
+  // that a job opened later, or elsewhere, draws it whole.
+  std::vector<ProgressPoint> history;
+  static constexpr std::size_t kMaxHistory = 256;
 };
+
+// Adds a point to `job`'s history; when it is full, every other point goes (the first and
+// the newest stay), so the curve keeps its shape however many steps the solve takes.
+void add_progress(JobRecord& job, const ProgressPoint& point);
 
 std::string job_url(const std::string& id);
 std::string step_url(const std::string& id, int step);
@@ -48,7 +64,7 @@ std::string step_url(const std::string& id, int step);
 std::string job_to_json(const JobRecord& job);
 // Reads a stored record back. Throws MalformedJson or SceneError.
 JobRecord job_from_json(std::string_view text);
-// A JSON array of jobs, for GET /v1/jobs.
+// A JSON array of jobs, for GET /v1/jobs: their records without their histories.
 std::string jobs_to_json(const std::vector<JobRecord>& jobs);
 // The list GET /v1/jobs answers; throws as job_from_json does.
 std::vector<JobRecord> jobs_from_json(std::string_view text);

@@ -92,6 +92,7 @@ void JobRunner::Attempt::run(const std::string& scene_json) {
     draft_ = scene;
     draft_.camera = draft_camera(scene.camera);
     started_ = last_step_ = last_write_ = Clock::now();
+    record_.history.clear();  // a job claimed again solves from the start
     Solution solution = solve(
         scene,
         [this](const Snapshot& snap, const Solution& partial) { return step(snap, partial); },
@@ -109,9 +110,13 @@ void JobRunner::Attempt::run(const std::string& scene_json) {
 bool JobRunner::Attempt::step(const Snapshot& snap, const Solution& partial) {
   runner_.metrics_.count_shots(snap.shots - last_shots_, seconds_since(last_step_));
   last_shots_ = snap.shots;
-  if (snap.final) return true;
+  if (snap.final) {  // its image is finish()'s; the curve ends here
+    add_progress(record_, {snap.shots, seconds_since(started_), snap.unshot_fraction});
+    return true;
+  }
   record_.shots = snap.shots;
   record_.unshot_fraction = snap.unshot_fraction;
+  add_progress(record_, {snap.shots, seconds_since(started_), snap.unshot_fraction});
   record_.elements = partial.mesh->elements.size();
   record_.patches = partial.mesh->patches.size();
   std::string png;

@@ -339,6 +339,15 @@ function show(job) {
   $("live-wait").hidden = false;
   $("live").src = `/v1/jobs/${job.id}/stream`;
   drawCurve();
+  // The curve so far, as the server kept it (the list's records carry no history); steps
+  // that arrive later continue it on this page's clock.
+  getJson(`/v1/jobs/${job.id}`).then((record) => {
+    if (state.job !== job || state.curve.length > (record.history || []).length) return;
+    state.curve = (record.history || []).map(([shots, seconds, unshot]) => ({ shots, seconds, unshot }));
+    const last = state.curve[state.curve.length - 1];
+    if (last) state.started = performance.now() - 1000 * last.seconds;
+    drawCurve();
+  }).catch(() => {});
   state.target = 0.01;  // the solver's default, until the job's scene says otherwise
   getJson(`/v1/jobs/${job.id}/scene`)
     .then((scene) => { state.target = scene.solver?.unshot_fraction ?? 0.01; })

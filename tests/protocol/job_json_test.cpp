@@ -32,14 +32,32 @@ TEST(JobJson, ARecordComesBackAsItWent) {
   r.estimated_error = 0.018;
   r.estimated_error_se = 0.004;
   r.warnings = {"/scene/objects/0: \"room.glb\": 3 degenerate triangles dropped"};
+  r.history = {{0, 0.01, 1}, {25, 0.4, 0.3}, {640, 1.6, 0.005}};
   const JobRecord back = job_from_json(job_to_json(r));
   EXPECT_EQ(back.warnings, r.warnings);
+  EXPECT_EQ(back.history, r.history);
+  // The list leaves histories out: one a job would make it grow with every step.
+  EXPECT_TRUE(jobs_from_json(jobs_to_json({r}))[0].history.empty());
   EXPECT_EQ(job_to_json(back), job_to_json(r));
   EXPECT_EQ(back.state, JobState::Done);
   EXPECT_EQ(back.first_kept_step, 3);
   EXPECT_EQ(back.estimated_error_se, 0.004);
   const json j = json::parse(job_to_json(r));
   EXPECT_EQ(j["links"]["image"], "/v1/jobs/0123456789abcdef/image");
+}
+
+// A history keeps its first and newest points and thins the rest, so a long solve's curve
+// stays whole in a bounded record.
+TEST(JobJson, AHistoryIsThinnedNotCut) {
+  JobRecord r;
+  for (int shot = 0; shot < 10'000; ++shot) add_progress(r, {shot, 0.01 * shot, 1.0 / (1 + shot)});
+  ASSERT_LE(r.history.size(), JobRecord::kMaxHistory);
+  EXPECT_GT(r.history.size(), JobRecord::kMaxHistory / 2);
+  EXPECT_EQ(r.history.front().shots, 0);
+  EXPECT_EQ(r.history.back().shots, 9'999);
+  for (std::size_t i = 1; i < r.history.size(); ++i)
+    ASSERT_LT(r.history[i - 1].shots, r.history[i].shots);
+  EXPECT_EQ(job_from_json(job_to_json(r)).history, r.history);
 }
 
 TEST(JobJson, EveryStateHasAName) {

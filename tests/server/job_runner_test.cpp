@@ -60,6 +60,11 @@ TEST(JobRunner, AJobRunsToDoneWithItsFilesAndSteps) {
   EXPECT_TRUE(r.store.read(done.id, Artifact::Exr));
   EXPECT_TRUE(r.store.read(done.id, Artifact::Solution));
   EXPECT_TRUE(r.store.read_step(done.id, done.step));
+  // Its curve is kept with it: a point a step, the last one where the solve ended.
+  ASSERT_GE(done.history.size(), 2u);
+  EXPECT_EQ(done.history.back().shots, done.shots);
+  EXPECT_EQ(done.history.back().unshot, done.unshot_fraction);
+  EXPECT_LT(done.history.front().shots, done.history.back().shots);
   EXPECT_NE(r.metrics.prometheus({}).find("bumprad_claims_total 1\n"), std::string::npos);
 }
 

@@ -58,6 +58,7 @@ await inBrowser(server, async (browser) => {
   await page.waitForFunction(() => document.getElementById("state").textContent === "done", null,
                              { timeout: 120000 });
   check(await page.$eval("#progress", (p) => p.value) === 1, "the progress bar is full");
+  const solvedId = await page.textContent("#job-id");
   // Progress is the way down to the unshot target (log scale), or the shot cap if nearer.
   const halfway = await page.evaluate(() => {
     state.target = 0.01;
@@ -157,6 +158,12 @@ await inBrowser(server, async (browser) => {
   check(warned.includes("\"BoxTextured.gltf\": material \"Texture\": base colour above 0.99"),
         `a dropped glTF with its files solves, its importer's warnings shown (${warned})`);
   await page.screenshot({ path: join(work, "viewer.png"), fullPage: true });
+
+  // Reopened from the list, a job draws the curve the server kept with it.
+  await page.evaluate(() => { state.curve = []; drawCurve(); });
+  await page.click(`#jobs tbody tr[data-id='${solvedId}'] td:nth-child(2) a`);
+  await page.waitForFunction(() => Number(document.getElementById("curve").dataset.points) >= 2);
+  check(true, "a reopened job's convergence curve is drawn from its history");
 
   // Delete the ended job from its panel: it leaves the list.
   const dropId = await page.textContent("#job-id");
