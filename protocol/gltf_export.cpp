@@ -5,11 +5,15 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <numbers>
+#include <tuple>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
+
+#include "solver/scene/texture.h"
 
 namespace bumprad {
 namespace {
@@ -19,15 +23,20 @@ using json = nlohmann::json;
 // The binary chunk as it grows: each bufferView 4-byte aligned, as glTF asks.
 class Buffer {
  public:
+  // `target` 0: none (an image's bytes).
+  json::number_unsigned_t view(const void* data, std::size_t length, int target, json& views) {
+    while (bytes_.size() % 4) bytes_.push_back(0);
+    const std::size_t offset = bytes_.size();
+    bytes_.resize(offset + length);
+    std::memcpy(bytes_.data() + offset, data, length);
+    json v = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}};
+    if (target) v["target"] = target;
+    views.push_back(v);
+    return views.size() - 1;
+  }
   template <typename T>
   json::number_unsigned_t view(const std::vector<T>& data, int target, json& views) {
-    while (bytes_.size() % 4) bytes_.push_back(0);
-    const std::size_t offset = bytes_.size(), length = data.size() * sizeof(T);
-    bytes_.resize(offset + length);
-    std::memcpy(bytes_.data() + offset, data.data(), length);
-    views.push_back(
-        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}, {"target", target}});
-    return views.size() - 1;
+    return view(data.data(), data.size() * sizeof(T), target, views);
   }
   std::vector<char>& bytes() { return bytes_; }
 
@@ -59,25 +68,66 @@ json pair(glm::dvec2 v) {
   return json::array({v.x, v.y});
 }
 
-// A bump function as the walkthrough evaluates it (docs/export.md); image heights and
-// normal maps are named, their images are not in the file yet.
-json bump_json(const BumpFunction& b) {
+// The scene's images in the file, each once, as PNG textures: colours 8-bit sRGB, heights and
+// normals 16-bit as stored; sampled bilinearly with the scene's wrap mode.
+class Images {
+ public:
+  Images(Buffer& buffer, json& views) : buffer_(buffer), views_(views) {}
+  std::size_t texture(const Image& image, bool data, Wrap wrap) {
+    const auto key = std::make_tuple(&image, data, wrap);
+    if (auto it = known_.find(key); it != known_.end()) return it->second;
+    const std::string png =
+        data ? encode_data_png(image) : encode_image(image, ImageFormat::Png, 1);
+    images_.push_back({{"bufferView", buffer_.view(png.data(), png.size(), 0, views_)},
+                       {"mimeType", "image/png"}});
+    constexpr int kLinear = 9729, kRepeat = 10497, kClamp = 33071, kMirror = 33648;
+    const int mode = wrap == Wrap::Clamp ? kClamp : wrap == Wrap::Mirror ? kMirror : kRepeat;
+    samplers_.push_back(
+        {{"magFilter", kLinear}, {"minFilter", kLinear}, {"wrapS", mode}, {"wrapT", mode}});
+    textures_.push_back({{"source", images_.size() - 1}, {"sampler", samplers_.size() - 1}});
+    return known_[key] = textures_.size() - 1;
+  }
+  // Into the file's JSON, when there are any.
+  void add_to(json& gltf) const {
+    if (images_.empty()) return;
+    gltf["images"] = images_;
+    gltf["samplers"] = samplers_;
+    gltf["textures"] = textures_;
+  }
+
+ private:
+  Buffer& buffer_;
+  json& views_;
+  json images_ = json::array(), samplers_ = json::array(), textures_ = json::array();
+  std::map<std::tuple<const Image*, bool, Wrap>, std::size_t> known_;
+};
+
+// A bump function as the walkthrough evaluates it (docs/export.md): its parameters, and
+// for image heights and normal maps the texture of its image.
+json bump_json(const BumpFunction& b, Images& images) {
   static constexpr const char* kTypes[] = {"noise",   "wrinkles", "bricks", "tiles",
                                            "dimples", "cylinder", "image",  "normal_map"};
-  return {{"name", b.name},           {"type", kTypes[int(b.type)]},
-          {"amplitude", b.amplitude}, {"scale", pair(b.scale)},
-          {"offset", pair(b.offset)}, {"octaves", b.octaves},
-          {"seed", b.seed},           {"mortar", b.mortar},
-          {"radius", b.radius},       {"direction_deg", b.direction_deg},
-          {"strength", b.strength}};
+  json out = {{"name", b.name},           {"type", kTypes[int(b.type)]},
+              {"amplitude", b.amplitude}, {"scale", pair(b.scale)},
+              {"offset", pair(b.offset)}, {"octaves", b.octaves},
+              {"seed", b.seed},           {"mortar", b.mortar},
+              {"radius", b.radius},       {"direction_deg", b.direction_deg},
+              {"strength", b.strength}};
+  if (b.image) out["texture"] = images.texture(*b.image, true, b.wrap);
+  return out;
 }
 
-json texture_json(const ColorTexture& t) {
-  if (t.kind != ColorTexture::Kind::Checker) return {{"type", "image"}};
-  return {{"type", "checker"},
-          {"colors", {rgb(t.colors[0]), rgb(t.colors[1])}},
-          {"scale", pair(t.scale)},
-          {"offset", pair(t.offset)}};
+json texture_json(const ColorTexture& t, Images& images) {
+  json out = {{"scale", pair(t.scale)}, {"offset", pair(t.offset)}};
+  if (t.kind == ColorTexture::Kind::Image) {
+    out["type"] = "image";
+    out["texture"] = images.texture(*t.image, false, t.wrap);
+    out["mean"] = rgb(texture_mean(t));
+  } else {
+    out["type"] = "checker";
+    out["colors"] = {rgb(t.colors[0]), rgb(t.colors[1])};
+  }
+  return out;
 }
 
 }  // namespace
@@ -155,6 +205,7 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
 
   json views = json::array(), accessors = json::array();
   Buffer buffer;
+  Images images(buffer, views);
   const std::size_t count = used.size();
   auto attribute = [&](const std::vector<float>& data, const char* type, json extra = {}) {
     json a = {{"bufferView", buffer.view(data, kArrayBuffer, views)},
@@ -186,7 +237,7 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
                    {"emission", rgb(material.emission)},
                    {"specular", material.specular},
                    {"shininess", material.shininess}};
-    if (material.texture) extras["texture"] = texture_json(*material.texture);
+    if (material.texture) extras["texture"] = texture_json(*material.texture, images);
     materials.push_back(
         {{"name", material.name},
          {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}},
@@ -226,14 +277,17 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
   };
   if (with_map) {
     json bumps = json::array();
-    for (const BumpFunction& f : scene.bumps) bumps.push_back(bump_json(f));
+    for (const BumpFunction& f : scene.bumps) bumps.push_back(bump_json(f, images));
     gltf["extras"]["bumps"] = bumps;
     // With exact direct light the map holds the indirect light only (the direct light's
     // response to N' is the view pass's); with radiosity direct light, all of it.
     gltf["extras"]["map"] = {{"basis", "harmonics: bands 0, 1, 2, 4 (docs/export.md)"},
                              {"light", solution.direct.empty() ? "all" : "indirect"}};
   }
+  images.add_to(gltf);
+  gltf["bufferViews"] = views;  // with the views of the images the bump functions added
   while (buffer.bytes().size() % 4) buffer.bytes().push_back(0);
+  gltf["buffers"][0]["byteLength"] = buffer.bytes().size();
   std::string text = gltf.dump();
   while (text.size() % 4) text.push_back(' ');
   // GLB: a 12-byte header, the JSON chunk, the binary chunk (glTF 2.0 section 4.4).

@@ -22,12 +22,11 @@ function parseGlb(bytes) {
     const Type = a.componentType === 5125 ? Uint32Array : Float32Array;
     return new Type(bytes, bin + (v.byteOffset || 0) + (a.byteOffset || 0), a.count * sizes[a.type]);
   };
-  return { gltf, accessor };
+  return { gltf, accessor, bytes, bin };
 }
 
 // ---- Shading -----------------------------------------------------------------------------
 
-const kMaxBumps = 8;
 const kMapTexels = 15;     // per vertex: its radiosity, then 14 texels of map coefficients
 const kRowVertices = 256;  // vertices per row of the data texture
 const kBumpTypes = ["noise", "wrinkles", "bricks", "tiles", "dimples", "cylinder", "image", "normal_map"];
@@ -37,15 +36,12 @@ precision highp float;
 uniform mat4 modelViewMatrix, projectionMatrix;
 in vec3 position, normal, radiosity, dpdu, dpdv, corners, bary;
 in vec2 uv;
-in float bump;
 out vec3 vNormal, vRadiosity, vDpdu, vDpdv, vBary;
 out vec2 vUv;
 flat out ivec3 vCorners;
-flat out int vBump;
 void main() {
   vNormal = normal; vRadiosity = radiosity; vDpdu = dpdu; vDpdv = dpdv; vBary = bary; vUv = uv;
   vCorners = ivec3(corners + 0.5);
-  vBump = int(floor(bump + 0.5));
   gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
 }`;
 
@@ -56,19 +52,20 @@ precision highp float;
 precision highp int;
 precision highp sampler2D;
 uniform sampler2D mapTexture;
-uniform bool hasMap;
-uniform vec4 bumpA[${kMaxBumps}];  // type, amplitude, octaves, seed
-uniform vec4 bumpB[${kMaxBumps}];  // scale u, scale v, offset u, offset v
-uniform vec4 bumpC[${kMaxBumps}];  // mortar, radius, direction (deg), strength
+uniform bool bumpy;         // the mesh's object has a bump function and the file its map
+uniform vec4 bumpA;         // type, amplitude, octaves, seed
+uniform vec4 bumpB;         // scale u, scale v, offset u, offset v
+uniform vec4 bumpC;         // mortar, radius, direction (deg), strength
+uniform sampler2D bumpImage;  // image heights, normal maps
 uniform vec3 emission;
-uniform int checker;               // 1: a checker colour texture
-uniform vec3 checkerA, checkerB;
-uniform vec4 checkerScale;         // scale u, scale v, offset u, offset v
+uniform int colorKind;      // 0: none, 1: checker, 2: image
+uniform vec3 checkerA, checkerB, colorMean;
+uniform vec4 colorScale;    // scale u, scale v, offset u, offset v
+uniform sampler2D colorImage;
 uniform float exposure;
 in vec3 vNormal, vRadiosity, vDpdu, vDpdv, vBary;
 in vec2 vUv;
 flat in ivec3 vCorners;
-flat in int vBump;
 out vec4 color;
 
 const float kPi = 3.14159265358979;
@@ -90,20 +87,20 @@ float gradientNoise(vec2 p, uint seed) {
   float n11 = dot(gradient(c + ivec2(1, 1), seed), f - vec2(1, 1));
   return mix(mix(n00, n10, w.x), mix(n01, n11, w.x), w.y);
 }
-float across(int b, vec2 p) {
-  float a = radians(bumpC[b].z);
+float across(vec2 p) {
+  float a = radians(bumpC.z);
   return dot(p, vec2(cos(a), sin(a)));
 }
-float pattern(int b, vec2 p) {
-  int type = int(bumpA[b].x);
+float pattern(vec2 p) {
+  int type = int(bumpA.x);
   if (type == 0) {
     float h = 0.0, a = 1.0;
-    for (int o = 0; o < int(bumpA[b].z); ++o, a *= 0.5, p *= 2.0)
-      h += a * gradientNoise(p, uint(bumpA[b].w) + uint(o));
+    for (int o = 0; o < int(bumpA.z); ++o, a *= 0.5, p *= 2.0)
+      h += a * gradientNoise(p, uint(bumpA.w) + uint(o));
     return h;
   }
-  if (type == 1) return sin(2.0 * kPi * across(b, p));
-  float m = bumpC[b].x / 2.0, edge = 0.5 * m;
+  if (type == 1) return sin(2.0 * kPi * across(p));
+  float m = bumpC.x / 2.0, edge = 0.5 * m;
   if (type == 2) {
     float row = floor(p.y);
     float x = fract(p.x / 2.0 + 0.5 * row), y = fract(p.y);
@@ -117,39 +114,51 @@ float pattern(int b, vec2 p) {
   }
   if (type == 4) {
     vec2 c = fract(p) - 0.5;
-    float d2 = dot(c, c) / (bumpC[b].y * bumpC[b].y);
+    float d2 = dot(c, c) / (bumpC.y * bumpC.y);
     return d2 < 1.0 ? -(1.0 - d2) * (1.0 - d2) : 0.0;
   }
   if (type == 5) {
-    float t = 2.0 * fract(across(b, p)) - 1.0;
+    float t = 2.0 * fract(across(p)) - 1.0;
     return sqrt(max(0.0, 1.0 - t * t));
   }
-  return 0.0;  // image heights and normal maps: their images are not in the file yet
+  if (type == 6) {
+    vec3 c = texture(bumpImage, p).rgb;
+    return (c.r + c.g + c.b) / 3.0;
+  }
+  return 0.0;
 }
 // Blinn's N' from the height's slopes (bump.cpp's evaluate_bump and perturb_normal).
-vec3 perturbed(int b, vec3 n) {
-  int type = int(bumpA[b].x);
-  vec2 scale = bumpB[b].xy, p = vUv * scale + bumpB[b].zw;
+vec3 perturbed(vec3 n) {
+  int type = int(bumpA.x);
+  vec2 scale = bumpB.xy, p = vUv * scale + bumpB.zw;
   vec2 d;
   if (type == 1 || type == 5) {
-    float a = radians(bumpC[b].z);
+    float a = radians(bumpC.z);
     vec2 axis = vec2(cos(a), sin(a));
     float slope;
     if (type == 1) {
-      slope = 2.0 * kPi * cos(2.0 * kPi * across(b, p));
+      slope = 2.0 * kPi * cos(2.0 * kPi * across(p));
     } else {
-      float t = 2.0 * fract(across(b, p)) - 1.0;
+      float t = 2.0 * fract(across(p)) - 1.0;
       slope = -2.0 * t / sqrt(max(1e-4, 1.0 - t * t));
     }
     d = slope * axis * scale;
-  } else if (type <= 4) {
-    const float e = 1e-3;
-    d = vec2(pattern(b, p + vec2(e, 0)) - pattern(b, p - vec2(e, 0)),
-             pattern(b, p + vec2(0, e)) - pattern(b, p - vec2(0, e))) / (2.0 * e) * scale;
+  } else if (type == 7) {
+    // A normal map's normal in the frame of N, dP/du and the image's up (bump.cpp).
+    vec3 c = texture(bumpImage, p).rgb;
+    vec3 local = vec3((2.0 * c.r - 1.0) * bumpC.w, (2.0 * c.g - 1.0) * bumpC.w, max(0.0, 2.0 * c.b - 1.0));
+    vec3 t = vDpdu - n * dot(n, vDpdu), s = vDpdv - n * dot(n, vDpdv);
+    if (!(length(t) > 0.0) || !(length(s) > 0.0)) return n;
+    vec3 tangent = normalize(t), down = normalize(s - tangent * dot(tangent, s));
+    vec3 m = local.x * tangent - local.y * down + local.z * n;
+    return length(m) > 0.0 ? normalize(m) : n;
   } else {
-    return n;
+    // Central differences: a thousandth of a cell, or half a texel of a height map.
+    float e = type == 6 ? 0.5 / float(max(textureSize(bumpImage, 0).x, textureSize(bumpImage, 0).y)) : 1e-3;
+    d = vec2(pattern(p + vec2(e, 0)) - pattern(p - vec2(e, 0)),
+             pattern(p + vec2(0, e)) - pattern(p - vec2(0, e))) / (2.0 * e) * scale;
   }
-  d *= bumpA[b].y;
+  d *= bumpA.y;
   if (d == vec2(0)) return n;
   vec3 c = cross(vDpdu, vDpdv);
   float len = length(c);
@@ -196,8 +205,8 @@ float srgb(float x) {
 void main() {
   vec3 n = normalize(vNormal);
   vec3 b = vRadiosity;
-  if (hasMap && vBump >= 0 && vBump < ${kMaxBumps}) {  // more bump functions show smooth
-    vec3 np = perturbed(vBump, n);
+  if (bumpy) {
+    vec3 np = perturbed(n);
     // The map's frame: N, dP/du made perpendicular (perturbed_map.cpp's tangent_frame).
     vec3 t = vDpdu - n * dot(n, vDpdu);
     t = length(t) > 1e-12 ? normalize(t) : normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
@@ -210,47 +219,72 @@ void main() {
         vBary.z * corner(vCorners.z, dy);
   }
   b = max(b, vec3(0));
-  if (checker == 1) {
-    vec2 p = vUv * checkerScale.xy + checkerScale.zw;
+  // A colour texture scales what is reflected by rho(u,v) / its mean (texture.cpp).
+  if (colorKind != 0) {
+    vec2 p = vUv * colorScale.xy + colorScale.zw;
     int parity = (int(floor(p.x)) + int(floor(p.y))) & 1;
-    vec3 rho = parity == 1 ? checkerB : checkerA;
-    b = emission + max(b - emission, vec3(0)) * rho / ((checkerA + checkerB) / 2.0);
+    vec3 rho = colorKind == 2 ? texture(colorImage, p).rgb : parity == 1 ? checkerB : checkerA;
+    vec3 mean = colorKind == 2 ? colorMean : (checkerA + checkerB) / 2.0;
+    b = emission + max(b - emission, vec3(0)) * rho / max(mean, vec3(1e-6));
   }
   vec3 radiance = b / kPi * exposure;
   color = vec4(srgb(radiance.r), srgb(radiance.g), srgb(radiance.b), 1.0);
 }`;
 
-// The bump uniforms for `bumps` (the file's, with the sliders' changes).
-function bumpUniforms(bumps, uniforms) {
-  bumps.slice(0, kMaxBumps).forEach((f, i) => {
-    const pair = (v, d) => (Array.isArray(v) ? v : v === undefined ? d : [v, v]);
-    const scale = pair(f.scale, [1, 1]), offset = pair(f.offset, [0, 0]);
-    uniforms.bumpA.value[i].set(kBumpTypes.indexOf(f.type), f.amplitude ?? 0.01, f.octaves ?? 4, f.seed ?? 1);
-    uniforms.bumpB.value[i].set(scale[0], scale[1], offset[0], offset[1]);
-    uniforms.bumpC.value[i].set(f.mortar ?? 0.08, f.radius ?? 0.35, f.direction_deg ?? 0, f.strength ?? 1);
-  });
+// A bump function's uniforms, set from its parameters (the file's, or a slider's).
+function setBumpUniforms(f, u) {
+  const pair = (v, d) => (Array.isArray(v) ? v : v === undefined ? d : [v, v]);
+  const scale = pair(f.scale, [1, 1]), offset = pair(f.offset, [0, 0]);
+  u.bumpA.value.set(kBumpTypes.indexOf(f.type), f.amplitude ?? 0.01, f.octaves ?? 4, f.seed ?? 1);
+  u.bumpB.value.set(scale[0], scale[1], offset[0], offset[1]);
+  u.bumpC.value.set(f.mortar ?? 0.08, f.radius ?? 0.35, f.direction_deg ?? 0, f.strength ?? 1);
 }
 
-// One mesh per primitive (material), non-indexed: each triangle's corners carry the three
-// vertex numbers and barycentric weights, so a fragment reads its corners' maps.
-function buildScene(file) {
+// The file's textures (PNG in its buffer) as three.js textures with their samplers' wrap
+// modes, bilinear and without mipmaps as the server samples them; colours decoded from sRGB
+// by the GPU before filtering, data (heights, normals) as stored.
+async function loadTextures(file) {
+  const { gltf, bytes, bin } = file;
+  const wraps = { 10497: THREE.RepeatWrapping, 33071: THREE.ClampToEdgeWrapping, 33648: THREE.MirroredRepeatWrapping };
+  return Promise.all((gltf.textures || []).map(async (t) => {
+    const image = gltf.images[t.source], view = gltf.bufferViews[image.bufferView];
+    const blob = new Blob([new Uint8Array(bytes, bin + (view.byteOffset || 0), view.byteLength)], { type: image.mimeType });
+    const bitmap = await createImageBitmap(blob, { colorSpaceConversion: "none", premultiplyAlpha: "none" });
+    const texture = new THREE.Texture(bitmap);
+    const sampler = gltf.samplers[t.sampler] || {};
+    texture.wrapS = wraps[sampler.wrapS] ?? THREE.RepeatWrapping;
+    texture.wrapT = wraps[sampler.wrapT] ?? THREE.RepeatWrapping;
+    texture.magFilter = texture.minFilter = THREE.LinearFilter;
+    texture.generateMipmaps = false;
+    texture.flipY = false;  // row 0 is the image's top, as the server reads it
+    texture.needsUpdate = true;
+    return texture;
+  }));
+}
+
+// One mesh per primitive (material) and bump function, non-indexed: each triangle's corners
+// carry the three vertex numbers and barycentric weights, so a fragment reads its corners'
+// maps.
+async function buildScene(file) {
   const { gltf, accessor } = file;
   const prim0 = gltf.meshes[0].primitives[0].attributes;
-  const has = (name) => prim0[name] !== undefined;
-  const hasMap = has("_MAP_0");
+  const hasMap = prim0._MAP_0 !== undefined;
   const position = accessor(prim0.POSITION), normal = accessor(prim0.NORMAL), uv = accessor(prim0.TEXCOORD_0);
   const radiosity = accessor(prim0._RADIOSITY);
   const vertices = position.length / 3;
   const zeros = new Float32Array(vertices * 3);
   const dpdu = hasMap ? accessor(prim0._DPDU) : zeros, dpdv = hasMap ? accessor(prim0._DPDV) : zeros;
   const bump = hasMap ? accessor(prim0._BUMP) : new Float32Array(vertices).fill(-1);
+  const textures = await loadTextures(file);
+  const blank = new THREE.DataTexture(new Uint8Array(4), 1, 1);
+  blank.needsUpdate = true;
 
   // The data texture: per vertex its radiosity and its map coefficients.
   const rows = Math.max(1, Math.ceil(vertices / kRowVertices));
   const data = new Float32Array(kRowVertices * kMapTexels * rows * 4);
   const maps = hasMap ? [...Array(14).keys()].map((k) => accessor(prim0[`_MAP_${k}`])) : [];
   for (let v = 0; v < vertices; ++v) {
-    const at = ((Math.floor(v / kRowVertices) * kRowVertices + (v % kRowVertices)) * kMapTexels) * 4;
+    const at = v * kMapTexels * 4;  // rows of kRowVertices vertices, one after the other
     data.set(radiosity.subarray(3 * v, 3 * v + 3), at);
     maps.forEach((m, k) => data.set(m.subarray(4 * v, 4 * v + 4), at + 4 * (1 + k)));
   }
@@ -258,55 +292,68 @@ function buildScene(file) {
                                            THREE.FloatType);
   mapTexture.needsUpdate = true;
 
-  const bumps = gltf.extras?.bumps || [];
-  const shared = {
-    mapTexture: { value: mapTexture },
-    hasMap: { value: hasMap },
-    bumpA: { value: [...Array(kMaxBumps)].map(() => new THREE.Vector4()) },
-    bumpB: { value: [...Array(kMaxBumps)].map(() => new THREE.Vector4()) },
-    bumpC: { value: [...Array(kMaxBumps)].map(() => new THREE.Vector4()) },
-    exposure: { value: gltf.extras?.exposure ?? 1 },
-  };
-  bumpUniforms(bumps, shared);
+  // Per bump function, the uniforms every mesh it covers shares.
+  const bumps = (gltf.extras?.bumps || []).map((f) => {
+    const u = { bumpA: { value: new THREE.Vector4() }, bumpB: { value: new THREE.Vector4() },
+                bumpC: { value: new THREE.Vector4() },
+                bumpImage: { value: f.texture !== undefined ? textures[f.texture] : blank } };
+    setBumpUniforms(f, u);
+    return { params: { ...f }, uniforms: u };
+  });
+  const smooth = { bumpA: { value: new THREE.Vector4() }, bumpB: { value: new THREE.Vector4() },
+                   bumpC: { value: new THREE.Vector4() }, bumpImage: { value: blank } };
+  const exposure = { value: gltf.extras?.exposure ?? 1 };
 
   const scene = new THREE.Scene();
   for (const p of gltf.meshes[0].primitives) {
     const index = accessor(p.indices);
-    const n = index.length;
-    const arrays = {
-      position: new Float32Array(3 * n), normal: new Float32Array(3 * n), uv: new Float32Array(2 * n),
-      radiosity: new Float32Array(3 * n), dpdu: new Float32Array(3 * n), dpdv: new Float32Array(3 * n),
-      corners: new Float32Array(3 * n), bary: new Float32Array(3 * n), bump: new Float32Array(n),
-    };
-    for (let i = 0; i < n; ++i) {
-      const v = index[i], first = i - (i % 3);
-      for (const [name, source] of [["position", position], ["normal", normal], ["radiosity", radiosity],
-                                    ["dpdu", dpdu], ["dpdv", dpdv]])
-        arrays[name].set(source.subarray(3 * v, 3 * v + 3), 3 * i);
-      arrays.uv.set(uv.subarray(2 * v, 2 * v + 2), 2 * i);
-      arrays.corners.set([index[first], index[first + 1], index[first + 2]], 3 * i);
-      arrays.bary[3 * i + (i % 3)] = 1;
-      arrays.bump[i] = bump[v];
+    const groups = new Map();  // bump function -> the primitive's triangles (first index) under it
+    for (let i = 0; i < index.length; i += 3) {
+      const b = Math.round(bump[index[i]]);
+      if (!groups.has(b)) groups.set(b, []);
+      groups.get(b).push(i);
     }
-    const geometry = new THREE.BufferGeometry();
-    for (const [name, a] of Object.entries(arrays))
-      geometry.setAttribute(name, new THREE.BufferAttribute(a, name === "bump" ? 1 : name === "uv" ? 2 : 3));
     const extras = gltf.materials[p.material].extras || {};
-    const texture = extras.texture?.type === "checker" ? extras.texture : null;
-    const uniforms = {
-      ...shared,
-      emission: { value: new THREE.Vector3(...(extras.emission || [0, 0, 0])) },
-      checker: { value: texture ? 1 : 0 },
-      checkerA: { value: new THREE.Vector3(...(texture ? texture.colors[0] : [1, 1, 1])) },
-      checkerB: { value: new THREE.Vector3(...(texture ? texture.colors[1] : [1, 1, 1])) },
-      checkerScale: { value: new THREE.Vector4(...(texture ? [...texture.scale, ...texture.offset] : [1, 1, 0, 0])) },
-    };
-    const material = new THREE.RawShaderMaterial({
-      vertexShader, fragmentShader, uniforms, glslVersion: THREE.GLSL3,
-    });
-    scene.add(new THREE.Mesh(geometry, material));
+    const t = extras.texture;
+    const kind = !t ? 0 : t.type === "checker" ? 1 : t.texture !== undefined ? 2 : 0;
+    for (const [b, triangles] of groups) {
+      const n = 3 * triangles.length;
+      const arrays = {
+        position: new Float32Array(3 * n), normal: new Float32Array(3 * n), uv: new Float32Array(2 * n),
+        radiosity: new Float32Array(3 * n), dpdu: new Float32Array(3 * n), dpdv: new Float32Array(3 * n),
+        corners: new Float32Array(3 * n), bary: new Float32Array(3 * n),
+      };
+      triangles.forEach((first, k) => {
+        for (let c = 0; c < 3; ++c) {
+          const v = index[first + c], i = 3 * k + c;
+          for (const [name, source] of [["position", position], ["normal", normal], ["radiosity", radiosity],
+                                        ["dpdu", dpdu], ["dpdv", dpdv]])
+            arrays[name].set(source.subarray(3 * v, 3 * v + 3), 3 * i);
+          arrays.uv.set(uv.subarray(2 * v, 2 * v + 2), 2 * i);
+          arrays.corners.set([index[first], index[first + 1], index[first + 2]], 3 * i);
+          arrays.bary[3 * i + c] = 1;
+        }
+      });
+      const geometry = new THREE.BufferGeometry();
+      for (const [name, a] of Object.entries(arrays))
+        geometry.setAttribute(name, new THREE.BufferAttribute(a, name === "uv" ? 2 : 3));
+      const own = b >= 0 && bumps[b] ? bumps[b].uniforms : smooth;
+      const uniforms = {
+        ...own, mapTexture: { value: mapTexture }, bumpy: { value: hasMap && b >= 0 && !!bumps[b] }, exposure,
+        emission: { value: new THREE.Vector3(...(extras.emission || [0, 0, 0])) },
+        colorKind: { value: kind },
+        checkerA: { value: new THREE.Vector3(...(kind === 1 ? t.colors[0] : [1, 1, 1])) },
+        checkerB: { value: new THREE.Vector3(...(kind === 1 ? t.colors[1] : [1, 1, 1])) },
+        colorMean: { value: new THREE.Vector3(...(kind === 2 ? t.mean : [1, 1, 1])) },
+        colorScale: { value: new THREE.Vector4(...(t ? [...t.scale, ...t.offset] : [1, 1, 0, 0])) },
+        colorImage: { value: kind === 2 ? textures[t.texture] : blank },
+      };
+      if (kind === 2) textures[t.texture].colorSpace = THREE.SRGBColorSpace;
+      const material = new THREE.RawShaderMaterial({ vertexShader, fragmentShader, uniforms, glslVersion: THREE.GLSL3 });
+      scene.add(new THREE.Mesh(geometry, material));
+    }
   }
-  return { scene, shared, bumps };
+  return { scene, bumps };
 }
 
 // The file's camera: glTF looks down -z with +y up; `target` is where orbiting turns about.
@@ -408,9 +455,8 @@ class Walkthrough {
     const response = await fetch(`/v1/jobs/${jobId}/model.glb`);
     if (response.status !== 200) throw new Error(`the model could not be fetched (${response.status})`);
     const file = parseGlb(await response.arrayBuffer());
-    const built = buildScene(file);
+    const built = await buildScene(file);
     this.scene = built.scene;
-    this.shared = built.shared;
     this.bumps = built.bumps;
     this.gltf = file.gltf;
     this.size = [width, height];
@@ -433,11 +479,13 @@ class Walkthrough {
   }
 
   // A bump function's new parameters (the re-texture sliders'), by name.
+  // A slider's bump function of another type keeps the file's image, which only the image
+  // types read.
   setBump(name, params) {
-    const i = this.bumps.findIndex((b) => b.name === name);
-    if (i < 0) return;
-    this.bumps[i] = { ...this.bumps[i], ...params };
-    bumpUniforms(this.bumps, this.shared);
+    const bump = this.bumps.find((b) => b.params.name === name);
+    if (!bump) return;
+    bump.params = { ...bump.params, ...params };
+    setBumpUniforms(bump.params, bump.uniforms);
     this.draw();
   }
 

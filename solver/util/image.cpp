@@ -63,6 +63,22 @@ std::string encode_image(const Image& image, ImageFormat format, double exposure
   return std::string(bytes.begin(), bytes.end());
 }
 
+std::string encode_data_png(const Image& image) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out) throw std::runtime_error("no png writer: " + OIIO::geterror());
+  out->set_ioproxy(&proxy);
+  std::vector<std::uint16_t> px(image.rgb.size());
+  for (std::size_t i = 0; i < px.size(); ++i)
+    px[i] = std::uint16_t(std::lround(65535 * std::clamp(double(image.rgb[i]), 0.0, 1.0)));
+  const OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT16);
+  bool ok = out->open("memory.png", spec) && out->write_image(OIIO::TypeDesc::UINT16, px.data());
+  ok = out->close() && ok;
+  if (!ok) throw std::runtime_error("encoding png: " + out->geterror());
+  return std::string(bytes.begin(), bytes.end());
+}
+
 void write_image(const std::filesystem::path& path, const Image& image, double exposure) {
   auto format = image_format_for(path);
   if (!format)

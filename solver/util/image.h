@@ -33,6 +33,9 @@ double srgb_encode(double linear);
 // The file's bytes: PNG and JPEG (quality 90) apply `exposure` and the sRGB curve; EXR keeps
 // linear radiance and ignores exposure. Files and HTTP bodies share this one encoder.
 std::string encode_image(const Image& image, ImageFormat format, double exposure);
+// A 16-bit PNG of values that are data, not colours (heights, normals): as stored, clamped to
+// [0, 1], with no exposure and no sRGB curve; read back with PixelMeaning::Data.
+std::string encode_data_png(const Image& image);
 
 // The format follows the extension (.png, .exr, .jpg); other extensions are refused.
 // Throws std::runtime_error naming the path on failure.

@@ -66,6 +66,16 @@ TEST(Image, EncodesInMemoryTheBytesAFileWouldHold) {
   EXPECT_EQ(format_name(ImageFormat::Exr), "exr");
 }
 
+// Heights and normals keep 16 bits and no curve.
+TEST(Image, DataPngsKeepTheirValues) {
+  const fs::path p = temp_dir() / "data.png";
+  test::write_file(p, encode_data_png(gradient()));
+  const Image back = read_image(p, nullptr, PixelMeaning::Data);
+  ASSERT_EQ(back.width, 16);
+  for (std::size_t i = 0; i < back.rgb.size(); ++i)
+    EXPECT_NEAR(back.rgb[i], gradient().rgb[i], 0.5 / 65535) << i;
+}
+
 // Grey and grey + alpha files read as grey in all three channels, as stored: alpha neither
 // becomes a colour nor darkens one (a normal map's or height map's alpha must not bend it).
 TEST(Image, GreyFilesReadAsGreyWhateverTheirAlpha) {
