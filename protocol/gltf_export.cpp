@@ -251,6 +251,11 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
     primitives.push_back(
         {{"attributes", attributes}, {"indices", accessors.size() - 1}, {"material", m}});
   }
+  // The bump functions' images join the buffer before its views and length are written.
+  json bumps = json::array();
+  if (with_map)
+    for (const BumpFunction& f : scene.bumps) bumps.push_back(bump_json(f, images));
+  while (buffer.bytes().size() % 4) buffer.bytes().push_back(0);
   const Camera& c = scene.camera;
   json gltf = {
       {"asset", {{"version", "2.0"}, {"generator", "bumprad"}}},
@@ -276,8 +281,6 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
         {"units", "COLOR_0: radiance x exposure, clamped to [0, 1]; _RADIOSITY: W/m^2"}}},
   };
   if (with_map) {
-    json bumps = json::array();
-    for (const BumpFunction& f : scene.bumps) bumps.push_back(bump_json(f, images));
     gltf["extras"]["bumps"] = bumps;
     // With exact direct light the map holds the indirect light only (the direct light's
     // response to N' is the view pass's); with radiosity direct light, all of it.
@@ -285,9 +288,6 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
                              {"light", solution.direct.empty() ? "all" : "indirect"}};
   }
   images.add_to(gltf);
-  gltf["bufferViews"] = views;  // with the views of the images the bump functions added
-  while (buffer.bytes().size() % 4) buffer.bytes().push_back(0);
-  gltf["buffers"][0]["byteLength"] = buffer.bytes().size();
   std::string text = gltf.dump();
   while (text.size() % 4) text.push_back(' ');
   // GLB: a 12-byte header, the JSON chunk, the binary chunk (glTF 2.0 section 4.4).
