@@ -159,6 +159,8 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
   const bool with_map = map && map->basis().kind() == MapBasisKind::SphericalHarmonics;
   constexpr std::size_t kMapVectors = 14;
   std::vector<std::vector<float>> map_values(with_map ? kMapVectors : 0);
+  const std::vector<Rgb> light = with_map ? map_light(scene, solution) : std::vector<Rgb>();
+  const std::size_t terms = with_map ? map->basis().size() : 0;
   std::vector<float> position, normal, uv, color, radiosity, dpdu, dpdv;
   for (std::size_t j = 0; j < used.size(); ++j) {
     const std::uint32_t i = used[j];
@@ -180,9 +182,9 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
     }
     std::array<float, 4 * kMapVectors> c{};
     if (const std::int32_t slot = map->slot(i); slot >= 0) {
-      const auto values = map->values(std::uint32_t(slot));
-      for (std::size_t t = 0; t < values.size(); ++t)
-        for (std::size_t ch = 0; ch < 3; ++ch) c[3 * t + ch] = float(values[t][int(ch)]);
+      for (std::size_t t = 0; t < terms; ++t)
+        for (std::size_t ch = 0; ch < 3; ++ch)
+          c[3 * t + ch] = float(light[std::size_t(slot) * terms + t][int(ch)]);
     }
     for (std::size_t a = 0; a < kMapVectors; ++a)
       map_values[a].insert(map_values[a].end(), c.begin() + 4 * a, c.begin() + 4 * a + 4);
@@ -282,10 +284,7 @@ std::string export_glb(const Scene& scene, const Solution& solution) {
   };
   if (with_map) {
     gltf["extras"]["bumps"] = bumps;
-    // With exact direct light the map holds the indirect light only (the direct light's
-    // response to N' is the view pass's); with radiosity direct light, all of it.
-    gltf["extras"]["map"] = {{"basis", "harmonics: bands 0, 1, 2, 4 (docs/export.md)"},
-                             {"light", solution.direct.empty() ? "all" : "indirect"}};
+    gltf["extras"]["map"] = {{"basis", "harmonics: bands 0, 1, 2, 4 (docs/export.md)"}};
   }
   images.add_to(gltf);
   std::string text = gltf.dump();

@@ -9,9 +9,15 @@
 #include "solver/render/lights.h"
 #include "solver/render/view_pass.h"
 #include "solver/scene/subdivision.h"
+#include "solver/util/parallel.h"
+#include "solver/util/random.h"
 
 namespace bumprad {
 namespace {
+
+// Shadow rays a map slot's direct light takes (map_light): a vertex is one point for the
+// whole area around it, so it can afford more than a pixel's sample.
+constexpr int kMapShadowRays = 64;
 
 // What of a solution the light does not change: the mesh, its (empty) map, its rays, open
 // shares and near sets.
@@ -208,6 +214,57 @@ std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution) {
   detail.materials = scene.materials;
   detail.open = solution.open;
   return vertex_values(*solution.mesh, solution.display, detail);
+}
+
+std::vector<Rgb> map_light(const Scene& scene, const Solution& solution) {
+  const PerturbedMap& map = *solution.map;
+  const Mesh& mesh = *solution.mesh;
+  const MapBasis& basis = map.basis();
+  const std::size_t n = basis.size();
+  std::vector<Rgb> out(map.vertex_count() * n);
+  for (std::uint32_t s = 0; s < map.vertex_count(); ++s)
+    std::ranges::copy(map.values(s), out.begin() + std::ptrdiff_t(s * n));
+  if (solution.direct.empty()) return out;
+  // Each slot's reflectance (area-weighted over the bumpy elements at its vertex, as the
+  // map's own values are) and a normal for a vertex whose elements' normals cancel.
+  std::vector<Rgb> reflectance(map.vertex_count(), Rgb(0));
+  std::vector<double> area(map.vertex_count(), 0);
+  std::vector<Vec3> fallback(map.vertex_count(), Vec3(0, 0, 1));
+  for (const Element& e : mesh.elements) {
+    if (scene.objects[e.object].bump < 0) continue;
+    for (int k = 0; k < e.vertex_count; ++k) {
+      const std::int32_t s = map.slot(e.v[std::size_t(k)]);
+      if (s < 0) continue;
+      reflectance[std::size_t(s)] += e.area * scene.materials[std::size_t(e.material)].reflectance;
+      area[std::size_t(s)] += e.area;
+      fallback[std::size_t(s)] = e.normal;
+    }
+  }
+  const Lights lights(mesh, scene.materials, scene.lights);
+  parallel_for(int(map.vertex_count()), [&](int i) {
+    const auto s = std::uint32_t(i);
+    if (!(area[s] > 0)) return;
+    const Vertex& v = mesh.vertices[map.vertex_of(s)];
+    const Vec3 normal = glm::length(v.normal) > 0.5 ? glm::normalize(v.normal) : fallback[s];
+    const Frame frame = tangent_frame(normal, v.dpdu);
+    const Rgb rho = reflectance[s] / area[s];
+    std::vector<double> values(n);
+    std::vector<Vec3> local;
+    Random rng(hash64(s));
+    lights.direct_sources(
+        v.position, normal, *solution.rays, kMapShadowRays, rng,
+        [&](const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon) {
+          if (polygon.empty()) {
+            basis.project(frame.to_local(toward), values);
+          } else {
+            local.clear();
+            for (const Vec3& c : polygon) local.push_back(frame.to_local(c - v.position));
+            basis.project_polygon(local, values);
+          }
+          for (std::size_t t = 0; t < n; ++t) out[s * n + t] += rho * weight * values[t];
+        });
+  });
+  return out;
 }
 
 SolutionView::SolutionView(const Scene& scene, const Solution& solution, bool keep)

@@ -95,6 +95,15 @@ class SolutionView {
 // as the view pass interpolates it (vertex_values): what an exported model carries.
 std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution);
 
+// The perturbed map's values (slot * basis size + value, as PerturbedMap::values) for all of
+// the light: what an exported model carries. With radiosity direct light they are the map's
+// own. With exact direct light the map holds the indirect light (the view pass adds the
+// direct light per pixel), so each slot adds its vertex's direct light at every N' from its
+// shadow rays (Lights::direct_sources): each lamp's clipped form factor projected into the
+// basis (MapBasis::project_polygon), each punctual light's clamped cosine, times the
+// reflectance. Needs solution.map.
+std::vector<Rgb> map_light(const Scene& scene, const Solution& solution);
+
 // One image: SolutionView(scene, solution, false).render(scene.bumps, stop).
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step (previews).

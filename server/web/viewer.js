@@ -592,10 +592,7 @@ async function openWalk(job) {
   await walk.view.open(job.id, width, height);
   walk.job = job.id;
   $("walk-panel").hidden = false;
-  $("walk-info").textContent = `${width} x ${height}` + (walk.view.mapLight === "indirect"
-    ? ". This job's direct light is exact (per pixel on the server), so here bumps change only " +
-      "the indirect light; solve with \"direct_light\": \"radiosity\" for the paper's walkthrough."
-    : "");
+  $("walk-info").textContent = `${width} x ${height}`;
 }
 
 async function renderHere() {

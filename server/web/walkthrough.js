@@ -459,8 +459,6 @@ class Walkthrough {
     this.scene = built.scene;
     this.bumps = built.bumps;
     this.gltf = file.gltf;
-    // "indirect" when the job's direct light was exact: its map knows the indirect light only.
-    this.mapLight = file.gltf.extras?.map?.light;
     this.size = [width, height];
     this.renderer.setPixelRatio(ratio);
     this.renderer.setSize(width, height, true);

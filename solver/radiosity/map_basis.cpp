@@ -74,6 +74,37 @@ void MapBasis::project(const Vec3& w, std::span<double> out) const {
   for (std::size_t s = 0; s < size_; ++s) out[s] = std::max(0.0, glm::dot(directions_[s], w));
 }
 
+void MapBasis::project_polygon(std::span<const Vec3> polygon, std::span<double> out) const {
+  std::fill(out.begin(), out.begin() + std::ptrdiff_t(size_), 0.0);
+  std::vector<double> at(size_);
+  constexpr double kAngle = 0.05;  // radians a sub-triangle may span, about
+  constexpr int kDepth = 12;       // halvings at most: 4^12 sub-triangles where x touches it
+  // A triangle split in four until it spans under kAngle, then its exact solid angle (Van
+  // Oosterom & Strackee 1983) at its centroid's direction.
+  const auto add = [&](const auto& self, const Vec3& a, const Vec3& b, const Vec3& c,
+                       int depth) -> void {
+    const double la = glm::length(a), lb = glm::length(b), lc = glm::length(c);
+    const Vec3 centroid = (a + b + c) / 3.0;
+    const double edge = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    if (depth < kDepth && edge > kAngle * std::min({la, lb, lc, glm::length(centroid)})) {
+      const Vec3 ab = (a + b) / 2.0, bc = (b + c) / 2.0, ca = (c + a) / 2.0;
+      self(self, a, ab, ca, depth + 1);
+      self(self, ab, b, bc, depth + 1);
+      self(self, ca, bc, c, depth + 1);
+      self(self, ab, bc, ca, depth + 1);
+      return;
+    }
+    const double solid = 2 * std::abs(std::atan2(glm::dot(a, glm::cross(b, c)),
+                                                 la * lb * lc + glm::dot(a, b) * lc +
+                                                     glm::dot(a, c) * lb + glm::dot(b, c) * la));
+    if (!(solid > 0) || !(glm::length(centroid) > 0)) return;
+    project(glm::normalize(centroid), at);
+    for (std::size_t k = 0; k < size_; ++k) out[k] += at[k] * solid / kPi;
+  };
+  for (std::size_t t = 1; t + 1 < polygon.size(); ++t)
+    add(add, polygon[0], polygon[t], polygon[t + 1], 0);
+}
+
 MapTerms MapBasis::evaluate(const Vec3& normal) const {
   MapTerms out;
   if (kind_ == MapBasisKind::SphericalHarmonics) {

@@ -40,6 +40,12 @@ class MapBasis {
   // linear in azimuth within a ring and in tilt between rings (N is ring 0); tilts beyond
   // the outer ring, and normals below the tangent plane, use the outer ring.
   MapTerms evaluate(const Vec3& normal) const;
+  // Each value's response to a polygon of radiosity 1 seen from the origin (local
+  // coordinates, any winding): the integral of project(w) dw / pi over its solid angle, so
+  // that evaluation at N' gives the point-to-polygon form factor clipped to N''s plane (a
+  // lamp's direct light at every tilt, also where N' cuts it), to the basis's own limits (in
+  // harmonics bands 0-2 and 4 of it), by a quadrature of sub-triangles under 0.05 radians.
+  void project_polygon(std::span<const Vec3> polygon, std::span<double> out) const;
   // The values of a radiosity that is the same at every normal (emission): all ones for
   // sampled normals, 1 / Y_00 in the constant harmonic.
   std::span<const double> constant() const { return constant_; }

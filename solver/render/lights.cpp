@@ -420,30 +420,34 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
   return sum;
 }
 
-DirectForm Lights::direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
-                               int shadow_rays, Random& random) const {
+void Lights::direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays,
+                            int shadow_rays, Random& random, const SourceVisitor& visit) const {
   const Vec3 from = x + geometric * epsilon_;
-  DirectForm form;
-  thread_local std::vector<Vec3> toward;  // unit directions to everything seen
-  toward.clear();
-  auto add = [&](const Rgb& weight, const Vec3& vector) {
-    for (int c = 0; c < 3; ++c) form.rows[std::size_t(c)] += glm::vec3(weight[c] * vector);
-  };
   for (const PunctualLight& l : punctual_) {
     const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
-    if (a.irradiance == Rgb(0)) continue;
-    add(a.irradiance, a.toward);
-    toward.push_back(a.toward);
+    if (a.irradiance != Rgb(0)) visit(a.irradiance, a.toward, {});
   }
   thread_local std::vector<Visible> seen;
   thread_local std::vector<Vec3> corners;
   visible(x, from, geometric, rays, shadow_rays, random, seen);
-  for (const Visible& v : seen) {
-    const std::span<const Vec3> p = polygon(v.seen, corners);
-    add(v.seen.group->emission * (v.share * (v.seen.mirror ? v.seen.mirror->specular : 1)),
-        polygon_vector(x, p));
-    for (const Vec3& c : p) toward.push_back(glm::normalize(c - x));
-  }
+  for (const Visible& v : seen)
+    visit(v.seen.group->emission * (v.share * (v.seen.mirror ? v.seen.mirror->specular : 1)),
+          Vec3(0), polygon(v.seen, corners));
+}
+
+DirectForm Lights::direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
+                               int shadow_rays, Random& random) const {
+  DirectForm form;
+  thread_local std::vector<Vec3> toward;  // unit directions to everything seen
+  toward.clear();
+  direct_sources(x, geometric, rays, shadow_rays, random,
+                 [&](const Rgb& weight, const Vec3& to, std::span<const Vec3> polygon) {
+                   const Vec3 vector = polygon.empty() ? to : polygon_vector(x, polygon);
+                   for (int c = 0; c < 3; ++c)
+                     form.rows[std::size_t(c)] += glm::vec3(weight[c] * vector);
+                   if (polygon.empty()) toward.push_back(to);
+                   for (const Vec3& c : polygon) toward.push_back(glm::normalize(c - x));
+                 });
   if (toward.empty()) return form;
   Vec3 axis(0);
   for (const Vec3& d : toward) axis += d;

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -72,6 +73,13 @@ class Lights {
   // direct_form().at() agree for every normal the form covers.
   DirectForm direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
                          int shadow_rays, Random& random) const;
+  // What direct_form() sums, source by source, from the same rays: each punctual light's
+  // irradiance and unit direction (`polygon` empty), and each emitter or mirror image seen,
+  // its E V (k_s V for an image) and polygon, whose clipped form factor at N' is its F.
+  using SourceVisitor =
+      std::function<void(const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon)>;
+  void direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays, int shadow_rays,
+                      Random& random, const SourceVisitor& visit) const;
 
   // Next-event estimation for the path tracer, unbiased: each punctual light's irradiance
   // (deterministic), plus a point y on an emitter chosen by
