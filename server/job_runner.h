@@ -28,7 +28,7 @@ class JobRunner {
       : store_(store), metrics_(metrics), watchdog_(watchdog), options_(std::move(options)) {}
 
   // Returns when the job has ended (done, failed, cancelled), was released at shutdown, or
-  // its lease was lost. `stop` ends it within one shot; `reason` says why.
+  // its lease was lost. `stop` ends it mid-shot; `reason` says why.
   void run(const std::string& worker, const Claim& claim, std::stop_source stop,
            const std::atomic<StopReason>& reason);
 

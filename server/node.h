@@ -42,7 +42,7 @@ class Node {
   Node(const Node&) = delete;
   Node& operator=(const Node&) = delete;
 
-  // Claims no more jobs; running ones stop within one shot and go back to the store.
+  // Claims no more jobs; running ones stop mid-shot and go back to the store.
   void shutdown() {
     if (scheduler) scheduler->shutdown();
   }

@@ -1,7 +1,7 @@
 // The solver workers of one process: each claims the oldest queued job from the store, runs
 // it (job_runner.h) and claims the next. They wake when the store says a job was queued, and
 // look again every poll period for what no event announced (another node's jobs, expired
-// leases). A cancel heard from the store stops the job it names within one shot.
+// leases). A cancel heard from the store stops the job it names mid-shot.
 #pragma once
 
 #include <atomic>
@@ -29,7 +29,7 @@ class Scheduler {
   Scheduler(const Scheduler&) = delete;
   Scheduler& operator=(const Scheduler&) = delete;
 
-  // Claims no more jobs; running ones stop within one shot and are released to the store.
+  // Claims no more jobs; running ones stop mid-shot and are released to the store.
   // Waits for the workers.
   void shutdown();
   std::size_t workers() const { return workers_.size(); }

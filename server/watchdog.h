@@ -1,6 +1,6 @@
 // Wall-time limits: stop sources that a deadline stops. One thread sleeps until the earliest
 // deadline; a solve or render checks its stop token inside every long loop, so work past its
-// time limit ends within one shot or one image row.
+// time limit ends mid-shot or within one image row.
 #pragma once
 
 #include <chrono>

@@ -46,7 +46,7 @@ struct Solution {
 // the solve; the solution is then what was reached.
 using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 
-// `stop` ends the solve within one shot (a cancelled job): the solution is then partial and
+// `stop` ends the solve mid-shot (a cancelled job): the solution is then partial and
 // its map unfinished, and no final step is reported.
 Solution solve(const Scene& scene, const StepCallback& on_step = {}, std::stop_token stop = {});
 

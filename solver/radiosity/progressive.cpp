@@ -68,7 +68,7 @@ bool ProgressiveSolver::done() const {
   return shots_ >= settings_.max_shots || unshot_fraction() <= settings_.unshot_fraction;
 }
 
-bool ProgressiveSolver::shoot() {
+bool ProgressiveSolver::shoot(std::stop_token stop) {
   auto t0 = Clock::now();
   const std::optional<std::uint32_t> next = residuals_.next_patch();
   if (!next) return false;
@@ -78,7 +78,7 @@ bool ProgressiveSolver::shoot() {
   double angle = 0;
   if (settings_.rotate_hemicube) angle = rng_.next() * (2 * std::numbers::pi);
   const Shot shot{shooting.patch, shot_origin(shooting) + patch.normal * hemicube_lift(mesh_),
-                  shooting.weight};
+                  shooting.weight, stop};
   const Frame frame = frame_about(patch.normal, angle);
   form_factors_->begin(shot);
   // Ray-cast shots still render the hemi-cube when its pixels are needed: for specular
@@ -86,6 +86,7 @@ bool ProgressiveSolver::shoot() {
   if (form_factors_->reads_hemicube() || map_ || !shooting.sources.empty())
     hemicube_.render(shot.origin, frame, shooting.patch);
   const std::vector<VisibleElement>& visible = form_factors_->find(shot, hemicube_, map_);
+  if (stop.stop_requested()) return false;
   residuals_.deliver(shooting, visible);
 
   double specular_s = 0;
@@ -153,7 +154,7 @@ void ProgressiveSolver::run(const std::function<bool(const Snapshot&)>& on_step,
                             std::stop_token stop) {
   const int every = std::max(1, settings_.preview_every);
   while (!done() && !stop.stop_requested()) {
-    if (!shoot()) break;
+    if (!shoot(stop)) break;
     if (on_step && shots_ % every == 0 && !done() && !on_step(snapshot())) return;
   }
   if (on_step && !stop.stop_requested()) on_step(snapshot());

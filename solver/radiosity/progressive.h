@@ -45,15 +45,17 @@ class ProgressiveSolver {
   void attach_map(PerturbedMap* map);
 
   // One shot from the patch with the largest unshot power in magnitude (negative: shot
-  // ahead). False if nothing was left to shoot.
-  bool shoot();
+  // ahead). False if nothing was left to shoot, or if `stop` ended it: its loops (near
+  // field, aliasing rays) check it, and a stopped shot's power is lost, so the solver is
+  // then good for its statistics only.
+  bool shoot(std::stop_token stop = {});
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;
   // A new unshot-power threshold: run() then goes on to it.
   void set_unshot_target(double fraction) { settings_.unshot_fraction = fraction; }
   // Shoots until done(); calls on_step after every `preview_every` shots and at the end.
-  // on_step returning false stops the solve early; so does `stop`, checked after every
-  // shot (a cancelled job stops within one shot). No final call is made after a stop.
+  // on_step returning false stops the solve early; so does `stop`, checked within every
+  // shot (see shoot()). No final call is made after a stop.
   void run(const std::function<bool(const Snapshot&)>& on_step = {}, std::stop_token stop = {});
 
   int shots() const { return shots_; }

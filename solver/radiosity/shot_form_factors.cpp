@@ -145,10 +145,13 @@ std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube
   visible_.clear();
   if (map) hemicube.form_factors();  // lists the bumpy elements' pixels for the map
   std::vector<double> f(mesh_.elements.size(), 0.0);
-  parallel_for(int(f.size()), [&](int j) {
-    if (mesh_.elements[std::size_t(j)].patch != pi)
-      f[std::size_t(j)] = rays_.form_factor(pi, std::uint32_t(j));
-  });
+  parallel_for(
+      int(f.size()),
+      [&](int j) {
+        if (mesh_.elements[std::size_t(j)].patch != pi)
+          f[std::size_t(j)] = rays_.form_factor(pi, std::uint32_t(j));
+      },
+      shot.stop);
   double total = 0;
   for (std::uint32_t j = 0; j < f.size(); ++j) {
     if (f[j] > 0) visible_.push_back({j, f[j]});
@@ -172,7 +175,7 @@ class HemicubeFormFactors : public ShotFormFactors {
  private:
   double near_field(const Shot& shot, std::uint32_t element, double hemicube_form_factor) const;
   // The hemi-cube's aliasing receivers with their ray-cast form factors (see definition).
-  std::vector<VisibleElement> aliased(std::uint32_t patch) const;
+  std::vector<VisibleElement> aliased(std::uint32_t patch, std::stop_token stop) const;
 
   const Mesh& mesh_;
   const int resolution_;
@@ -205,7 +208,8 @@ HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings&
 void HemicubeFormFactors::begin(const Shot& shot) {
   if (!rays_) return;
   rays_->weigh(shot.patch);
-  aliased_ = std::async(std::launch::async, [this, pi = shot.patch] { return aliased(pi); });
+  aliased_ = std::async(std::launch::async,
+                        [this, pi = shot.patch, stop = shot.stop] { return aliased(pi, stop); });
 }
 
 // Near field (docs/architecture.md; Baum, Rushmeier & Winget 1989): one hemi-cube at the
@@ -242,7 +246,8 @@ double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
 // receiver no pixel sees got nothing before: the near field corrects only what the
 // hemi-cube saw). Neither the list nor the rays depend on the hemi-cube, so they run while
 // it renders.
-std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi) const {
+std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi,
+                                                         std::stop_token stop) const {
   const Patch& patch = mesh_.patches[pi];
   const double pixel = 4.0 / (double(resolution_) * double(resolution_));
   std::vector<VisibleElement> small;
@@ -256,10 +261,13 @@ std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi) const
     double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
     if (solid_angle < alias_pixels_ * pixel) small.push_back({j, 0});
   }
-  parallel_for(int(small.size()), [&](int k) {
-    VisibleElement& s = small[std::size_t(k)];
-    s.form_factor = rays_->form_factor(pi, s.element);
-  });
+  parallel_for(
+      int(small.size()),
+      [&](int k) {
+        VisibleElement& s = small[std::size_t(k)];
+        s.form_factor = rays_->form_factor(pi, s.element);
+      },
+      stop);
   return small;
 }
 
@@ -278,10 +286,13 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
     seen += v.form_factor;
     if (glm::length(mesh_.elements[v.element].centroid - patch.centroid) < near) close.push_back(k);
   }
-  parallel_for(int(close.size()), [&](int k) {
-    VisibleElement& v = visible_[close[std::size_t(k)]];
-    v.form_factor = near_field(shot, v.element, v.form_factor);
-  });
+  parallel_for(
+      int(close.size()),
+      [&](int k) {
+        VisibleElement& v = visible_[close[std::size_t(k)]];
+        v.form_factor = near_field(shot, v.element, v.form_factor);
+      },
+      shot.stop);
   double corrected = 0;
   for (const VisibleElement& v : visible_) corrected += v.form_factor;
   const double scale = corrected > 0 ? seen / corrected : 0;

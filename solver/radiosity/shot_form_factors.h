@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "solver/radiosity/hemicube.h"
@@ -22,6 +23,9 @@ struct Shot {
   std::uint32_t patch;
   Vec3 origin;                     // where the hemi-cube sits, lifted off the surface
   std::span<const double> weight;  // per element of the patch: the power it shoots
+  // Ends the shot's loops early (a cancelled or timed-out job); its form factors are then
+  // incomplete and must not be delivered.
+  std::stop_token stop = {};
 };
 
 class ShotFormFactors {
