@@ -55,6 +55,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
   solver.shine(scene.lights, *out.rays);
+  out.stats.seconds_setup = seconds_since(t0);
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());
   const auto step = [&](const Snapshot& s) {
@@ -145,8 +146,11 @@ Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token 
   auto t0 = Clock::now();
   std::vector<std::vector<std::uint32_t>> refinements;
   auto mesh = std::make_unique<Mesh>(build_mesh(scene));
+  double setup = seconds_since(t0);
   for (int level = 0;; ++level) {
     Solution out = solve_on(scene, std::move(mesh), on_step, stop);
+    setup += out.stats.seconds_setup;
+    out.stats.seconds_setup = setup;
     out.refinements = refinements;
     std::vector<std::uint32_t> split;
     if (level < scene.solver.adaptive_levels && !stop.stop_requested())
@@ -157,7 +161,9 @@ Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token 
       return out;
     }
     refinements.push_back(split);
+    const auto t = Clock::now();
     mesh = std::make_unique<Mesh>(subdivide(*out.mesh, split));
+    setup += seconds_since(t);
   }
 }
 

@@ -18,6 +18,7 @@ struct SolveStats {
   int shots = 0;
   std::size_t elements = 0;
   double seconds_solve = 0;  // wall time, hemi-cube set-up included, texture work excluded
+  double seconds_setup = 0;  // of that: mesh, rays, open shares, near field, GL context
   double unshot_fraction = 0;
   double seconds_texture = 0;  // building the perturbed map (gather pass or shooting)
   // With SolverSettings::tolerance: the image's estimated relative RMS error against ground

@@ -35,6 +35,21 @@ bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e) {
   return true;
 }
 
+ElementRun element_run(std::span<const Element> elements, std::uint32_t first,
+                       std::uint32_t count) {
+  ElementRun r{first, count};
+  for (std::uint32_t i = first; i < first + count; ++i) {
+    const Element& e = elements[i];
+    r.area += e.area;
+    r.centroid += e.area * e.centroid;
+    r.normal += e.area * e.normal;
+  }
+  if (r.area > 0) r.centroid /= r.area;
+  const double len = glm::length(r.normal);
+  if (len > 0) r.normal /= len;
+  return r;
+}
+
 std::array<double, 4> corner_weights(const Element& e, double u, double v) {
   if (e.vertex_count == 3) return {1 - u - v, u, v, 0};
   return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};

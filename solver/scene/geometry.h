@@ -24,6 +24,10 @@ std::span<const Vec3> element_corners(const Mesh& mesh, const Element& e,
 // (v0,v2,v3)); false if it is degenerate.
 bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e);
 
+// The run of `count` elements from `first`, with their total area and area-weighted
+// centroid and (unit) normal: a patch or a group.
+ElementRun element_run(std::span<const Element> elements, std::uint32_t first, std::uint32_t count);
+
 // The weights of an element's corners at (u, v) as Embree reports a hit: quads
 // p0 + u (p1 - p0) + v (p3 - p0) bilinearly, triangles (1 - u - v) p0 + u p1 + v p2.
 std::array<double, 4> corner_weights(const Element& element, double u, double v);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -198,10 +199,11 @@ class SurfaceBuilder {
     return it->second;
   }
 
-  // Queues an element for patch `local_patch` of the current surface; corners are vertex
-  // ids from add_vertex (remapped by weld()). Degenerate corners collapse to a triangle or
-  // the element is dropped.
-  void add_element(std::uint32_t local_patch, std::array<std::uint32_t, 4> v, int n) {
+  // Queues an element for patch `local_patch` and the group `group` names within it (none:
+  // a group of its own); corners are vertex ids from add_vertex (remapped by weld()).
+  // Degenerate corners collapse to a triangle or the element is dropped.
+  void add_element(std::uint32_t local_patch, std::array<std::uint32_t, 4> v, int n,
+                   std::optional<std::uint64_t> group = std::nullopt) {
     std::array<std::uint32_t, 4> w{};
     int m = 0;
     for (int i = 0; i < n; ++i) {
@@ -219,26 +221,31 @@ class SurfaceBuilder {
     e.material = object_.material;
     if (object_.flip_normals) std::reverse(e.v.begin(), e.v.begin() + m);
     if (!compute_element_geometry(mesh_.vertices, e)) return;
-    pending_[local_patch].push_back(e);
+    // Keys of groups of their own lie above every cell key (cluster_key's top bit is clear).
+    pending_[local_patch].push_back({group ? *group : (std::uint64_t(1) << 63) | own_groups_++, e});
   }
 
-  // Moves the queued elements into the mesh, patch by patch, so each patch is contiguous.
-  void end_surface() {
+  // Moves the queued elements into the mesh patch by patch, each patch's groups in turn, so
+  // that both are contiguous; patches may span surfaces (a faceted mesh's triangles).
+  void flush() {
     for (auto& elems : pending_) {
       if (elems.empty()) continue;
-      Patch p;
-      p.first = std::uint32_t(mesh_.elements.size());
-      p.count = std::uint32_t(elems.size());
-      for (Element& e : elems) {
+      std::stable_sort(elems.begin(), elems.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      const std::uint32_t first = std::uint32_t(mesh_.elements.size());
+      for (std::size_t i = 0; i < elems.size(); ++i) {
+        if (i == 0 || elems[i].first != elems[i - 1].first) {
+          if (i > 0) close_run(mesh_.groups);
+          mesh_.groups.push_back({std::uint32_t(mesh_.elements.size()), 0});
+        }
+        Element& e = elems[i].second;
         e.patch = std::uint32_t(mesh_.patches.size());
-        p.area += e.area;
-        p.centroid += e.area * e.centroid;
-        p.normal += e.area * e.normal;
+        e.group = std::uint32_t(mesh_.groups.size() - 1);
         mesh_.elements.push_back(e);
       }
-      p.centroid /= p.area;
-      p.normal = glm::normalize(p.normal);
-      mesh_.patches.push_back(p);
+      close_run(mesh_.groups);
+      mesh_.patches.push_back({first, 0});
+      close_run(mesh_.patches);
     }
     pending_.clear();
     patch_keys_.clear();
@@ -246,16 +253,24 @@ class SurfaceBuilder {
   }
 
  private:
+  // The last run's count, area, centroid and normal, from the elements added since it began.
+  void close_run(std::vector<ElementRun>& runs) {
+    ElementRun& r = runs.back();
+    r.count = std::uint32_t(mesh_.elements.size()) - r.first;
+    r = element_run(mesh_.elements, r.first, r.count);
+  }
+
   Mesh& mesh_;
   const Object& object_;
   std::uint32_t object_index_;
   double weld_tol_;
   std::uint32_t surface_ = 0;
   std::uint32_t first_vertex_ = 0;
+  std::uint64_t own_groups_ = 0;
   std::vector<std::uint32_t> remap_;
   std::vector<Vec3> shading_;  // per vertex since begin_surface(), for weld()
   std::map<std::uint64_t, std::uint32_t> patch_keys_;
-  std::vector<std::vector<Element>> pending_;
+  std::vector<std::vector<std::pair<std::uint64_t, Element>>> pending_;  // group key, element
 };
 
 std::uint64_t patch_key(int pu, int pv) {
@@ -287,7 +302,7 @@ void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
           sb.add_element(patch, {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)}, 4);
     }
   }
-  sb.end_surface();
+  sb.flush();
 }
 
 // A triangle's (u, v) as an affine map of its barycentric coordinates, and the tangents
@@ -310,9 +325,9 @@ TriangleUv triangle_uv(const TriangleMeshShape& m, const std::array<std::uint32_
   return {u0, d1, d2, (e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
 }
 
-// The patch of a smooth mesh's element: elements share one when their centroids fall in one
-// cube of side `cell` (k element sizes) and their triangles face within one of the six axis
-// directions, so a finely tessellated surface shoots from clusters of neighbouring
+// The patch (or group) of a triangle mesh's element: elements share one when their
+// centroids fall in one cube of side `cell` and their triangles face within one of the six
+// axis directions, so a finely tessellated surface shoots from clusters of neighbouring
 // triangles' elements, never from one patch per triangle, and a crease (a box's edge) still
 // parts its faces' patches. 20 bits of each cell coordinate: a patch would join far cells
 // only in a scene over 2^20 cells (10^6 patch sizes) across.
@@ -328,8 +343,10 @@ std::uint64_t cluster_key(const Vec3& centroid, const Vec3& facing, double cell)
 }
 
 // Each input triangle is split into n^2 triangles on a barycentric grid (i, j); row j holds
-// n + 1 - j vertices. Patches group k x k grid cells of one input triangle, or, on a smooth
-// mesh, neighbouring elements across triangles (cluster_key).
+// n + 1 - j vertices. Patches group neighbouring elements across triangles (cluster_key, in
+// cubes of k element sizes), on faceted meshes too. A triangle at most one element size
+// long is one element, and such triangles join groups (cubes of one element size): the
+// light a shot sends is resolved per group, not per triangle finer than the scene needs.
 void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDensity& d,
                     double size, int k) {
   struct TriangleGrid {
@@ -342,15 +359,14 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     };
     const auto& tri = m.triangles[t];
     const Vec3 a = m.positions[tri[0]], ab = m.positions[tri[1]] - a, ac = m.positions[tri[2]] - a;
+    const Vec3 facing = glm::cross(ab, ac);
     for (int j = 0; j < g.n; ++j)
       for (int i = 0; i + j < g.n; ++i) {
-        std::uint64_t key =
-            (std::uint64_t(t) << 32) | (std::uint64_t(j / k) << 16) | std::uint64_t(i / k);
-        if (m.smooth)
-          key = cluster_key(a + ((i + 1.0 / 3) / g.n) * ab + ((j + 1.0 / 3) / g.n) * ac,
-                            glm::cross(ab, ac), k * size);
-        std::uint32_t patch = sb.patch_for(key);
-        sb.add_element(patch, {id(i, j), id(i + 1, j), id(i, j + 1), 0}, 3);
+        const Vec3 centroid = a + ((i + 1.0 / 3) / g.n) * ab + ((j + 1.0 / 3) / g.n) * ac;
+        const std::uint32_t patch = sb.patch_for(cluster_key(centroid, facing, k * size));
+        std::optional<std::uint64_t> group;
+        if (g.n == 1) group = cluster_key(centroid, facing, size);
+        sb.add_element(patch, {id(i, j), id(i + 1, j), id(i, j + 1), 0}, 3, group);
         if (i + j + 1 < g.n)
           sb.add_element(patch, {id(i + 1, j), id(i + 1, j + 1), id(i, j + 1), 0}, 3);
       }
@@ -378,14 +394,13 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     for (const auto& t : m.triangles) grids.push_back(add_grid(t));
     sb.weld(!m.uvs.empty(), !m.normals.empty());
     for (std::size_t t = 0; t < grids.size(); ++t) emit(t, grids[t]);
-    sb.end_surface();
-    return;
+  } else {
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      sb.begin_surface();
+      emit(t, add_grid(m.triangles[t]));
+    }
   }
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    sb.begin_surface();
-    emit(t, add_grid(m.triangles[t]));
-    sb.end_surface();
-  }
+  sb.flush();
 }
 
 // A sixteenth of the bounding-box diagonal of all objects: the scene's natural element size.

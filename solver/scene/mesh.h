@@ -26,6 +26,7 @@ struct Element {
       v{};  // counter-clockwise seen from the front; v[3] unused if triangle
   int vertex_count = 4;
   std::uint32_t patch = 0;
+  std::uint32_t group = 0;
   std::uint32_t surface = 0;
   std::uint32_t object = 0;
   int material = 0;
@@ -34,8 +35,9 @@ struct Element {
   double area = 0;
 };
 
-// A patch owns the contiguous elements [first, first + count).
-struct Patch {
+// Contiguous elements [first, first + count) with their area, area-weighted centroid and
+// normal.
+struct ElementRun {
   std::uint32_t first = 0;
   std::uint32_t count = 0;
   Vec3 centroid{0};
@@ -43,10 +45,19 @@ struct Patch {
   double area = 0;
 };
 
+// A patch shoots light through one hemi-cube.
+using Patch = ElementRun;
+// A group receives it as one where a model's triangles are finer than the scene needs: the
+// elements of one patch that fall in one cell of the element size, facing alike
+// (shot_form_factors.h). Elsewhere each element is a group of its own. Groups lie within
+// patches, in order.
+using ElementGroup = ElementRun;
+
 struct Mesh {
   std::vector<Vertex> vertices;
   std::vector<Element> elements;
   std::vector<Patch> patches;
+  std::vector<ElementGroup> groups;
   std::uint32_t surface_count = 0;
   Vec3 bounds_min{0};
   Vec3 bounds_max{0};

@@ -120,6 +120,18 @@ Mesh subdivide(const Mesh& mesh, std::span<const std::uint32_t> split) {
     q.count = std::uint32_t(out.elements.size()) - q.first;
     out.patches.push_back(q);
   }
+  // Children stand where their parents stood, so groups stay contiguous. A child of an
+  // element alone in its group is alone in its own: splitting refines what receives.
+  std::uint32_t first = 0;
+  for (std::uint32_t i = 1; i <= out.elements.size(); ++i) {
+    const std::uint32_t was = out.elements[first].group;
+    if (i < out.elements.size() && out.elements[i].group == was && mesh.groups[was].count > 1)
+      continue;
+    out.groups.push_back(element_run(out.elements, first, i - first));
+    for (std::uint32_t j = first; j < i; ++j)
+      out.elements[j].group = std::uint32_t(out.groups.size() - 1);
+    first = i;
+  }
   return out;
 }
 

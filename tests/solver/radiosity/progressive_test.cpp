@@ -136,6 +136,69 @@ TEST(Progressive, SmallDistantReceiversTakeRayCastFormFactors) {
   }
 }
 
+// A floor of 7,200 small triangles (1.7 cm, finer than the 10 cm element size) 2 m under a
+// lamp: each triangle covers a fifth of a hemi-cube pixel at resolution 150 (under a
+// hundredth at 32), so alone it would get a whole pixel or none. Its group takes its
+// visible share from rays, and each element its smooth unoccluded form factor times that
+// share. Against Lambert's closed form per element, over 4 rotations, measured at both
+// resolutions: worst 0.13 %, RMS 0.053 %, power 0.9996 of exact (from the group's pixels
+// instead, at 150, they were 36 % and 9.2 %).
+TEST(Progressive, FineTrianglesReceiveAsGroupsWithoutPixelNoise) {
+  TriangleMeshShape floor;
+  floor.smooth = true;
+  const int n = 60;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      floor.positions.push_back(Vec3(double(i) / n - 0.5, double(j) / n - 0.5, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
+      floor.triangles.push_back({a, a + 1, c + 1});
+      floor.triangles.push_back({a, c + 1, c});
+    }
+  Object ground;
+  ground.shape = floor;
+  const auto lamp = test::rectangle_facing_down(0.5, 0.5, 2);
+  Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), ground}, 0.5);
+  Material emitter;
+  emitter.reflectance = Rgb(0);
+  emitter.emission = Rgb(1);
+  s.materials.push_back(emitter);
+  s.solver.element_size = 0.1;
+  Mesh mesh = build_mesh(s);
+  ASSERT_EQ(mesh.elements.size(), 7201u);
+  ASSERT_LT(mesh.groups.size(), 200u);
+  RayScene rays(mesh);
+  const std::vector<Vec3> outline(lamp.begin(), lamp.end());
+  for (int resolution : {150, 32}) {
+    double worst = 0, squares = 0, sum = 0, exact_sum = 0;
+    int count = 0;
+    for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+      s.solver.hemicube_resolution = resolution;
+      s.solver.seed = seed;
+      ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
+      ASSERT_TRUE(solver.shoot());
+      for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
+        const Element& e = mesh.elements[i];
+        if (e.material != 0) continue;
+        const double exact = 0.5 * point_to_polygon(e.centroid, e.normal, outline);
+        const double got = solver.radiosity()[i].g;
+        worst = std::max(worst, std::abs(got - exact) / exact);
+        squares += (got - exact) * (got - exact) / (exact * exact);
+        sum += got * e.area;
+        exact_sum += exact * e.area;
+        ++count;
+      }
+    }
+    const double rms = std::sqrt(squares / count);
+    std::printf("hemi-cube %d: per element worst %.3g, RMS %.3g; power received %.4f of exact\n",
+                resolution, worst, rms, sum / exact_sum);
+    EXPECT_LT(rms, 0.05);
+    EXPECT_LT(worst, 0.15);
+    EXPECT_NEAR(sum / exact_sum, 1, 0.02);
+  }
+}
+
 // A glowing floor patch of two elements, one of them (and the patch's centre) under a
 // block: the patch shoots from its open part, so a receiver behind the block, hidden from
 // every open point of the floor, gets nothing. Shot from the patch centre, inside the block,

@@ -155,6 +155,61 @@ TEST(Mesh, TriangleMeshSubdividesAndWeldsWhenSmooth) {
 
 namespace bumprad {
 namespace {
+// A 1 x 1 square in z = 0 facing up as an n x n grid of triangle pairs.
+TriangleMeshShape fine_square(int n, bool smooth) {
+  TriangleMeshShape m;
+  m.smooth = smooth;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) m.positions.push_back(Vec3(double(i) / n, double(j) / n, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
+      m.triangles.push_back({a, a + 1, c + 1});
+      m.triangles.push_back({a, c + 1, c});
+    }
+  return m;
+}
+
+// Triangles finer than the element size are one element each; they shoot from patches of
+// neighbouring triangles (cubes of two element sizes) and receive in groups (cubes of one),
+// faceted or smooth, each group contiguous within its patch. Elsewhere (quads) every
+// element is a group of its own.
+TEST(Mesh, FineTrianglesShootFromPatchesAndReceiveInGroups) {
+  for (bool smooth : {false, true}) {
+    Scene s = one(fine_square(40, smooth));
+    s.solver.element_size = 0.1;
+    const Mesh m = build_mesh(s);
+    ASSERT_EQ(m.elements.size(), 3200u);
+    EXPECT_LE(m.patches.size(), 36u);  // 5 x 5 cells, 6 x 6 where a cell edge falls off
+    EXPECT_GE(m.groups.size(), 100u);
+    EXPECT_LE(m.groups.size(), 121u);
+    std::uint32_t next = 0;
+    for (std::uint32_t g = 0; g < m.groups.size(); ++g) {
+      const ElementGroup& group = m.groups[g];
+      ASSERT_EQ(group.first, next) << "groups follow each other";
+      next += group.count;
+      const std::uint32_t patch = m.elements[group.first].patch;
+      Vec3 lo(1e9), hi(-1e9);
+      double area = 0;
+      for (std::uint32_t i = group.first; i < group.first + group.count; ++i) {
+        EXPECT_EQ(m.elements[i].group, g);
+        EXPECT_EQ(m.elements[i].patch, patch) << "a group lies in one patch";
+        lo = glm::min(lo, m.elements[i].centroid);
+        hi = glm::max(hi, m.elements[i].centroid);
+        area += m.elements[i].area;
+      }
+      EXPECT_LE(hi.x - lo.x, 0.1);
+      EXPECT_LE(hi.y - lo.y, 0.1);
+      EXPECT_NEAR(group.area, area, 1e-12);
+      EXPECT_NEAR(group.normal.z, 1, 1e-12);
+    }
+    EXPECT_EQ(next, m.elements.size());
+  }
+  const Mesh quads =
+      build_mesh(test::scene_of({test::quad(test::rectangle_facing_down(1, 1, 0), 4, 4)}));
+  ASSERT_EQ(quads.groups.size(), quads.elements.size());
+  for (std::uint32_t i = 0; i < quads.elements.size(); ++i) EXPECT_EQ(quads.elements[i].group, i);
+}
 
 // The vertices the elements use (welding leaves the others unused).
 std::size_t used_vertices(const Mesh& m) {

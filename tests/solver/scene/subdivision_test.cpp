@@ -47,6 +47,13 @@ TEST(Subdivision, SplitsKeepAreaPatchesAndSharedEdges) {
   }
   EXPECT_EQ(fine.patches[0].count, 4u + 6);
   for (const Element& e : fine.elements) EXPECT_NEAR(e.normal.z, 1, 1e-12);
+  // Each quad was a group of its own, and so is each child: splitting refines what receives.
+  ASSERT_EQ(fine.groups.size(), fine.elements.size());
+  for (std::uint32_t i = 0; i < fine.elements.size(); ++i) {
+    EXPECT_EQ(fine.elements[i].group, i);
+    EXPECT_EQ(fine.groups[i].first, i);
+    EXPECT_EQ(fine.groups[i].count, 1u);
+  }
 
   // Triangles split in four too.
   Object sphere;
