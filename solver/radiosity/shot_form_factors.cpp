@@ -319,7 +319,7 @@ double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
 // face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole pixel
 // or not at all, so it takes its form factor from rays instead, near the patch too (where a
 // receiver no pixel sees got nothing before: the near field corrects only what the
-// hemi-cube saw). Grouped elements are left to groups().
+// hemi-cube saw). Grouped elements are left to grouped().
 std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi,
                                                          std::stop_token stop) const {
   const Patch& patch = mesh_.patches[pi];

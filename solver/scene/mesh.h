@@ -49,7 +49,7 @@ struct ElementRun {
 using Patch = ElementRun;
 // A group receives it as one where a model's triangles are finer than the scene needs: the
 // elements of one patch that fall in one cell of the element size, facing alike
-// (shot_form_factors.h). Elsewhere each element is a group of its own. Groups lie within
+// (shot_form_factors.cpp). Elsewhere each element is a group of its own. Groups lie within
 // patches, in order.
 using ElementGroup = ElementRun;
 
