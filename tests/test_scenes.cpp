@@ -25,6 +25,21 @@ std::array<Vec3, 4> rectangle_facing_down(double w, double h, double z) {
           Vec3(w / 2, -h / 2, z)};
 }
 
+TriangleMeshShape square_of_triangles(const Vec3& corner, int n, bool smooth) {
+  TriangleMeshShape m;
+  m.smooth = smooth;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      m.positions.push_back(corner + Vec3(double(i) / n, double(j) / n, 0));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
+      m.triangles.push_back({a, a + 1, c + 1});
+      m.triangles.push_back({a, c + 1, c});
+    }
+  return m;
+}
+
 Scene scene_of(std::vector<Object> objects, double rho, double emission) {
   Scene s;
   Material m;

@@ -11,6 +11,9 @@ namespace bumprad::test {
 // A quad object meshed into nu x nv elements, one patch per element.
 Object quad(const std::array<Vec3, 4>& corners, int nu = 1, int nv = 1, int material = 0);
 
+// A 1 x 1 square in z = 0 facing up from `corner`, as an n x n grid of triangle pairs.
+TriangleMeshShape square_of_triangles(const Vec3& corner, int n, bool smooth);
+
 // An axis-aligned w x h rectangle at height z facing down (-z), centred on the z axis.
 std::array<Vec3, 4> rectangle_facing_down(double w, double h, double z);
 

@@ -144,20 +144,8 @@ TEST(Progressive, SmallDistantReceiversTakeRayCastFormFactors) {
 // resolutions: worst 0.13 %, RMS 0.053 %, power 0.9996 of exact (from the group's pixels
 // instead, at 150, they were 36 % and 9.2 %).
 TEST(Progressive, FineTrianglesReceiveAsGroupsWithoutPixelNoise) {
-  TriangleMeshShape floor;
-  floor.smooth = true;
-  const int n = 60;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i)
-      floor.positions.push_back(Vec3(double(i) / n - 0.5, double(j) / n - 0.5, 0));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
-      floor.triangles.push_back({a, a + 1, c + 1});
-      floor.triangles.push_back({a, c + 1, c});
-    }
   Object ground;
-  ground.shape = floor;
+  ground.shape = test::square_of_triangles(Vec3(-0.5, -0.5, 0), 60, true);
   const auto lamp = test::rectangle_facing_down(0.5, 0.5, 2);
   Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), ground}, 0.5);
   Material emitter;

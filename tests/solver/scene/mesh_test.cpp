@@ -155,28 +155,13 @@ TEST(Mesh, TriangleMeshSubdividesAndWeldsWhenSmooth) {
 
 namespace bumprad {
 namespace {
-// A 1 x 1 square in z = 0 facing up as an n x n grid of triangle pairs.
-TriangleMeshShape fine_square(int n, bool smooth) {
-  TriangleMeshShape m;
-  m.smooth = smooth;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.positions.push_back(Vec3(double(i) / n, double(j) / n, 0));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
-      m.triangles.push_back({a, a + 1, c + 1});
-      m.triangles.push_back({a, c + 1, c});
-    }
-  return m;
-}
-
 // Triangles finer than the element size are one element each; they shoot from patches of
 // neighbouring triangles (cubes of two element sizes) and receive in groups (cubes of one),
 // faceted or smooth, each group contiguous within its patch. Elsewhere (quads) every
 // element is a group of its own.
 TEST(Mesh, FineTrianglesShootFromPatchesAndReceiveInGroups) {
   for (bool smooth : {false, true}) {
-    Scene s = one(fine_square(40, smooth));
+    Scene s = one(test::square_of_triangles(Vec3(0), 40, smooth));
     s.solver.element_size = 0.1;
     const Mesh m = build_mesh(s);
     ASSERT_EQ(m.elements.size(), 3200u);
