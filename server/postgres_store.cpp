@@ -88,6 +88,10 @@ namespace {
 // Runs `body` in a transaction on a pooled connection. A connection that broke (an idle one
 // from before a database restart, or one cut midway) is dropped and the body runs once more
 // on a new one: nothing of it was committed. If that fails too, the store is unavailable.
+// A connection lost during the commit itself leaves the transaction in doubt: the store is
+// unavailable too, and whoever retries must find a write that did land harmless (every
+// write here is: a step is stored once, a finish or a release of a job no longer running
+// matches nothing).
 template <typename Pool, typename Body>
 auto in_transaction(Pool& pool, Body&& body) {
   for (int attempt = 0;; ++attempt) {
@@ -106,6 +110,9 @@ auto in_transaction(Pool& pool, Body&& body) {
     } catch (const pqxx::broken_connection& e) {
       (*lease).disconnect();
       if (attempt > 0) unreachable(e);
+    } catch (const pqxx::in_doubt_error& e) {
+      (*lease).disconnect();
+      unreachable(e);
     }
   }
 }
@@ -330,8 +337,10 @@ Store::Lease PostgresStore::progress(const std::string& worker, JobRecord& recor
         next.id, worker, job_to_json(next), pg_.lease_s);
     if (held.empty()) return Lease::Lost;
     if (!png.empty()) {
-      tx.exec_params("INSERT INTO steps (job_id, step, png) VALUES ($1, $2, $3)", next.id,
-                     next.step, bytes_param(png));
+      tx.exec_params(
+          "INSERT INTO steps (job_id, step, png) VALUES ($1, $2, $3) "
+          "ON CONFLICT (job_id, step) DO UPDATE SET png = excluded.png",
+          next.id, next.step, bytes_param(png));
       tx.exec_params("DELETE FROM steps WHERE job_id = $1 AND step < $2", next.id,
                      next.first_kept_step);
     }

@@ -210,6 +210,31 @@ TEST_F(Postgres, AnExpiredLeaseRunsTheJobAgainUpToTheAttemptLimit) {
   EXPECT_NE(failed.error.find("2 attempts"), std::string::npos) << failed.error;
 }
 
+// A connection lost while a step commits leaves the write in doubt, and the worker writes
+// it again; if the first did land, the second must change nothing (in CI this once failed
+// the job on the steps table's key).
+TEST_F(Postgres, AStepWrittenAgainAfterACommitInDoubtIsStoredOnce) {
+  const std::string url = fresh_database();
+  PostgresStore store(url, {});
+  JobRecord r;
+  r.id = new_job_id();
+  r.created = 1;
+  store.submit(r, test::small_scene_json(5), "");
+  auto claim = store.claim("w/0");
+  ASSERT_TRUE(claim);
+  JobRecord first = claim->record, again = claim->record;
+  EXPECT_EQ(store.progress("w/0", first, "step one"), Store::Lease::Held);
+  EXPECT_EQ(store.progress("w/0", again, "step one, again"), Store::Lease::Held);
+  EXPECT_EQ(again.step, first.step);
+  EXPECT_EQ(store.read_step(r.id, first.step), "step one, again");
+  EXPECT_EQ(store.find(r.id)->state, JobState::Running);
+  JobRecord done = again;
+  done.state = JobState::Cancelled;
+  EXPECT_TRUE(store.finish("w/0", done, nullptr));
+  EXPECT_FALSE(store.finish("w/0", done, nullptr)) << "a finish written again matches nothing";
+  EXPECT_EQ(store.find(r.id)->state, JobState::Cancelled);
+}
+
 TEST_F(Postgres, RetentionEvictsTheLeastRecentlyUsedFinishedJobs) {
   StoreOptions options;
   options.retention.max_jobs = 2;
