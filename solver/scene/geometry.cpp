@@ -55,21 +55,31 @@ std::array<double, 4> corner_weights(const Element& e, double u, double v) {
   return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};
 }
 
-std::array<Vec3, 4> quarter_points(const Mesh& mesh, const Element& e) {
-  // Sub-triangle centres: barycentric (2/3, 1/6, 1/6), its turns, and (1/3, 1/3, 1/3).
-  static constexpr std::array<glm::dvec2, 4> kQuad = {
-      {{0.25, 0.25}, {0.75, 0.25}, {0.25, 0.75}, {0.75, 0.75}}};
-  static constexpr std::array<glm::dvec2, 4> kTriangle = {
-      {{1.0 / 6, 1.0 / 6}, {2.0 / 3, 1.0 / 6}, {1.0 / 6, 2.0 / 3}, {1.0 / 3, 1.0 / 3}}};
-  std::array<Vec3, 4> out;
-  for (std::size_t i = 0; i < 4; ++i) {
-    const glm::dvec2& uv = (e.vertex_count == 4 ? kQuad : kTriangle)[i];
-    std::array<double, 4> w = corner_weights(e, uv.x, uv.y);
-    out[i] = Vec3(0);
+std::vector<Vec3> part_points(const Mesh& mesh, const Element& e, int m) {
+  std::vector<glm::dvec2> uv;
+  if (e.vertex_count == 4) {
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) uv.push_back({(i + 0.5) / m, (j + 0.5) / m});
+  } else {
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i + j < m; ++i) uv.push_back({(i + 1.0 / 3) / m, (j + 1.0 / 3) / m});
+    for (int j = 0; j + 1 < m; ++j)
+      for (int i = 0; i + j + 1 < m; ++i) uv.push_back({(i + 2.0 / 3) / m, (j + 2.0 / 3) / m});
+  }
+  std::vector<Vec3> out;
+  for (const glm::dvec2& p : uv) {
+    const std::array<double, 4> w = corner_weights(e, p.x, p.y);
+    Vec3 point(0);
     for (int k = 0; k < e.vertex_count; ++k)
-      out[i] += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+      point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+    out.push_back(point);
   }
   return out;
+}
+
+std::array<Vec3, 4> quarter_points(const Mesh& mesh, const Element& e) {
+  const std::vector<Vec3> p = part_points(mesh, e, 2);
+  return {p[0], p[1], p[2], p[3]};
 }
 
 SurfaceAt surface_at(const Mesh& mesh, const Element& e, double u, double v) {

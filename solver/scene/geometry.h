@@ -32,8 +32,11 @@ ElementRun element_run(std::span<const Element> elements, std::uint32_t first, s
 // p0 + u (p1 - p0) + v (p3 - p0) bilinearly, triangles (1 - u - v) p0 + u p1 + v p2.
 std::array<double, 4> corner_weights(const Element& element, double u, double v);
 
-// Four points spread over an element, each standing for a quarter of its area: the centres
-// of its 2 x 2 bilinear sub-quads, or of a triangle's four midpoint sub-triangles.
+// m^2 points spread over an element, each standing for an equal part of its area: the
+// centres of its m x m bilinear sub-quads, or of a triangle's m^2 sub-triangles on the
+// grid of its edges' m-ths (those pointing as it does first, row by row, then the others).
+std::vector<Vec3> part_points(const Mesh& mesh, const Element& element, int m);
+// The same for m = 2.
 std::array<Vec3, 4> quarter_points(const Mesh& mesh, const Element& element);
 
 // The smooth surface at (u, v) of an element, interpolated from its corners as radiosity is:
