@@ -287,7 +287,7 @@ QuadShape parse_quad(const Node& n) {
 TriangleMeshShape parse_triangle_mesh(const Node& n) {
   TriangleMeshShape m;
   Node ps = n["positions"];
-  std::size_t np = ps.array(3, 1'000'000);
+  std::size_t np = ps.array(3, 3 * std::size_t(Limits::kMaxElements));  // three a triangle
   for (std::size_t i = 0; i < np; ++i) m.positions.push_back(ps[i].vec3());
   Node ts = n["triangles"];
   std::size_t nt = ts.array(1, std::size_t(Limits::kMaxElements));

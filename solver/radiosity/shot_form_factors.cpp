@@ -216,9 +216,9 @@ class HemicubeFormFactors : public ShotFormFactors {
   const Mesh& mesh_;
   const int resolution_;
   const double alias_pixels_;
-  std::optional<PatchRays> rays_;                 // none: no aliasing fallback
-  std::span<const double> open_;                  // per element: open_share, or empty
-  std::vector<std::vector<AreaSample>> samples_;  // per patch: near field (quarter points)
+  std::optional<PatchRays> rays_;  // none: no aliasing fallback
+  std::span<const double> open_;   // per element: open_share, or empty
+  std::vector<Vec3> near_points_;  // the shooter's quarter points, for near_field()
   // A grouped element's visibility, blended from up to four lookouts near it (see the
   // constructor): indices in lookouts_ and their weights.
   struct Blend {
@@ -245,15 +245,8 @@ HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings&
       resolution_(settings.hemicube_resolution),
       alias_pixels_(settings.alias_pixels),
       open_(open),
-      samples_(mesh.patches.size()),
       grouped_(mesh.elements.size(), false),
       visible_slot_(mesh.elements.size(), -1) {
-  for (std::size_t p = 0; p < mesh.patches.size(); ++p) {
-    const Patch& patch = mesh.patches[p];
-    for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
-      for (const Vec3& point : quarter_points(mesh, mesh.elements[e]))
-        samples_[p].push_back({point, mesh.elements[e].area / 4});
-  }
   if (!rays || !(settings.alias_pixels > 0)) return;
   rays_.emplace(mesh, *rays, open);
   find_lookouts(open);
@@ -379,6 +372,11 @@ void HemicubeFormFactors::blend_lookouts() {
 // on the hemi-cube: they are found on another thread while it renders (llvmpipe renders on
 // one).
 void HemicubeFormFactors::begin(const Shot& shot) {
+  const Patch& patch = mesh_.patches[shot.patch];
+  near_points_.clear();
+  for (std::uint32_t e = patch.first; e < patch.first + patch.count; ++e)
+    for (const Vec3& point : quarter_points(mesh_, mesh_.elements[e]))
+      near_points_.push_back(point);
   if (!rays_) return;
   rays_->weigh(shot.patch);
   prepared_ = std::async(std::launch::async, [this, shot] { return prepare(shot); });
@@ -406,11 +404,10 @@ double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
   // Each point of the shooter counts with the power it shoots (shot.weight, its element's,
   // which the element's four quarter points share alike): a patch lit at one end sends its
   // near neighbours the light of that end.
-  const auto& samples = samples_[patch];
   double mean = 0, weights = 0;
-  for (std::size_t k = 0; k < samples.size(); ++k) {
+  for (std::size_t k = 0; k < near_points_.size(); ++k) {
     const double w = shot.weight[k / 4];
-    mean += w * point_to_polygon(samples[k].point, n, receiver);
+    mean += w * point_to_polygon(near_points_[k], n, receiver);
     weights += w;
   }
   return weights > 0 ? visible * mean / weights : hemicube_form_factor;

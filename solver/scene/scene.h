@@ -18,7 +18,7 @@ namespace bumprad {
 
 // Documented limits; protocol/ rejects scenes beyond them before any work is done.
 struct Limits {
-  static constexpr int kMaxElements = 200'000;
+  static constexpr int kMaxElements = 2'000'000;
   static constexpr int kMinHemicube = 16;
   static constexpr int kMaxHemicube = 1024;
   static constexpr int kMaxImageSide = 8192;

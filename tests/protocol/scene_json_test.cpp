@@ -259,7 +259,7 @@ TEST(SceneJson, Limits) {
   expect_rejected(d, "/solver/max_shots", "must be between 1 and");
   d = minimal();
   d["objects"][0]["mesh"] = {{"element_size", 0.001}};
-  expect_rejected(d, "/objects/0", "more than 200000 elements");
+  expect_rejected(d, "/objects/0", "more than 2000000 elements");
   d = minimal();
   d["camera"]["position"][2] = 5e200;  // would overflow squares and cross products
   expect_rejected(d, "/camera/position/2", "must be within +-1e+12 (got 5e+200)");
