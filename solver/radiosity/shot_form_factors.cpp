@@ -205,12 +205,16 @@ class HemicubeFormFactors : public ShotFormFactors {
  private:
   // What needs no hemi-cube, found while it renders (see the definitions).
   struct Prepared {
+    std::vector<std::uint32_t> near;  // receivers within near_field_radius
     std::vector<VisibleElement> aliased;
     std::vector<VisibleElement> grouped;
   };
+  double near_unoccluded(const Shot& shot, std::uint32_t element) const;
   double near_field(const Shot& shot, std::uint32_t element, double hemicube_form_factor) const;
   Prepared prepare(const Shot& shot) const;
-  std::vector<VisibleElement> aliased(std::uint32_t patch, std::stop_token stop) const;
+  void by_rays(const Shot& shot, Prepared& out) const;
+  std::vector<VisibleElement> hidden_near(const Shot& shot,
+                                          std::span<const std::uint32_t> near) const;
   std::vector<VisibleElement> grouped(std::uint32_t patch, std::stop_token stop) const;
 
   const Mesh& mesh_;
@@ -383,7 +387,10 @@ void HemicubeFormFactors::begin(const Shot& shot) {
 }
 
 HemicubeFormFactors::Prepared HemicubeFormFactors::prepare(const Shot& shot) const {
-  return {aliased(shot.patch, shot.stop), grouped(shot.patch, shot.stop)};
+  Prepared out;
+  by_rays(shot, out);
+  out.grouped = grouped(shot.patch, shot.stop);
+  return out;
 }
 
 // Near field (docs/architecture.md; Baum, Rushmeier & Winget 1989): one hemi-cube at the
@@ -393,54 +400,86 @@ HemicubeFormFactors::Prepared HemicubeFormFactors::prepare(const Shot& shot) con
 // over points spread across the shooting patch.
 double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
                                        double hemicube_form_factor) const {
-  const std::uint32_t patch = shot.patch;
-  const Vec3& origin = shot.origin;
   std::array<Vec3, 4> storage;
-  std::span<const Vec3> receiver = element_corners(mesh_, mesh_.elements[element], storage);
-  const Vec3& n = mesh_.patches[patch].normal;
-  double at_origin = point_to_polygon(origin, n, receiver);
+  const double at_origin =
+      point_to_polygon(shot.origin, mesh_.patches[shot.patch].normal,
+                       element_corners(mesh_, mesh_.elements[element], storage));
   if (!(at_origin > 0)) return hemicube_form_factor;
-  double visible = std::min(1.0, hemicube_form_factor / at_origin);
-  // Each point of the shooter counts with the power it shoots (shot.weight, its element's,
-  // which the element's four quarter points share alike): a patch lit at one end sends its
-  // near neighbours the light of that end.
+  const double unoccluded = near_unoccluded(shot, element);
+  return unoccluded >= 0 ? std::min(1.0, hemicube_form_factor / at_origin) * unoccluded
+                         : hemicube_form_factor;
+}
+
+// The mean of Lambert's values over the shooter's quarter points, each counting with the
+// power it shoots (shot.weight, its element's, which the element's four points share
+// alike): a patch lit at one end sends its near neighbours the light of that end. Points
+// behind the receiver count nothing (a floor under a box sees only the back of its sides).
+// -1 if the shooter shoots nothing.
+double HemicubeFormFactors::near_unoccluded(const Shot& shot, std::uint32_t element) const {
+  std::array<Vec3, 4> storage;
+  const Element& e = mesh_.elements[element];
+  std::span<const Vec3> receiver = element_corners(mesh_, e, storage);
+  const Vec3& n = mesh_.patches[shot.patch].normal;
   double mean = 0, weights = 0;
   for (std::size_t k = 0; k < near_points_.size(); ++k) {
     const double w = shot.weight[k / 4];
-    mean += w * point_to_polygon(near_points_[k], n, receiver);
+    if (glm::dot(e.normal, near_points_[k] - e.centroid) > 0)
+      mean += w * point_to_polygon(near_points_[k], n, receiver);
     weights += w;
   }
-  return weights > 0 ? visible * mean / weights : hemicube_form_factor;
+  return weights > 0 ? mean / weights : -1;
 }
 
-// Aliasing: a receiver expected to cover fewer than alias_pixels hemi-cube pixels (a top
-// face pixel spans (2/R)^2 of the unit hemi-cube) falls between them, seen in a whole pixel
-// or not at all, so it takes its form factor from rays instead, near the patch too (where a
-// receiver no pixel sees got nothing before: the near field corrects only what the
-// hemi-cube saw). Grouped elements are left to grouped().
-std::vector<VisibleElement> HemicubeFormFactors::aliased(std::uint32_t pi,
-                                                         std::stop_token stop) const {
+// The receivers within the near field (hidden_near() takes those the hemi-cube misses),
+// and the aliasing receivers with their form factors from rays: a receiver expected to
+// cover fewer than alias_pixels hemi-cube pixels (a top face pixel spans (2/R)^2 of the unit
+// hemi-cube) falls between them, seen in a whole pixel or not at all (a receiver no pixel
+// sees got nothing). Grouped elements are left to grouped().
+void HemicubeFormFactors::by_rays(const Shot& shot, Prepared& out) const {
+  const std::uint32_t pi = shot.patch;
   const Patch& patch = mesh_.patches[pi];
   const double pixel = 4.0 / (double(resolution_) * double(resolution_));
-  std::vector<VisibleElement> small;
+  const double near = near_field_radius(patch);
   for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
     const Element& e = mesh_.elements[j];
     Vec3 d = e.centroid - patch.centroid;
     double r2 = glm::dot(d, d);
     if (e.patch == pi || grouped_[j]) continue;
     double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
-    if (cos_s <= 0 || cos_r <= 0) continue;
-    double solid_angle = e.area * cos_r / (r2 * std::sqrt(r2));
-    if (solid_angle < alias_pixels_ * pixel) small.push_back({j, 0});
+    if (cos_s > 0 && cos_r > 0 && e.area * cos_r / (r2 * std::sqrt(r2)) < alias_pixels_ * pixel)
+      out.aliased.push_back({j, 0});
+    else if (std::sqrt(r2) < near)
+      out.near.push_back(j);
   }
   parallel_for(
-      int(small.size()),
+      int(out.aliased.size()),
       [&](int k) {
-        VisibleElement& s = small[std::size_t(k)];
+        VisibleElement& s = out.aliased[std::size_t(k)];
         s.form_factor = rays_->form_factor(pi, s.element);
       },
-      stop);
-  return small;
+      shot.stop);
+}
+
+// Near receivers the hemi-cube did not see: it looks from the patch centre only, and a
+// patch beside a box sees faces of it from parts the centre does not (the floor of a room
+// with boxes standing on it, in 0.8 m patches of its fine triangles: 5.9 % off against the
+// path tracer, 4.6 % with these). Lambert's mean over the shooter times the share of its 64
+// lookout samples the rays see.
+std::vector<VisibleElement> HemicubeFormFactors::hidden_near(
+    const Shot& shot, std::span<const std::uint32_t> near) const {
+  std::vector<VisibleElement> out;
+  for (std::uint32_t j : near)
+    if (visible_slot_[j] < 0) out.push_back({j, 0});
+  parallel_for(
+      int(out.size()),
+      [&](int k) {
+        VisibleElement& s = out[std::size_t(k)];
+        const double seen =
+            rays_->visible_share(shot.patch, s.element, PatchRays::Samples::Lookout);
+        if (seen > 0) s.form_factor = std::max(0.0, near_unoccluded(shot, s.element)) * seen;
+      },
+      shot.stop);
+  return out;
 }
 
 // Groups of a model's small triangles (mesh.h), each too small for the hemi-cube's pixels:
@@ -489,22 +528,22 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(std::uint32_t pi,
 }
 
 std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicube& hemicube, bool) {
-  const std::uint32_t pi = shot.patch;
-  const Patch& patch = mesh_.patches[pi];
-  // Near-field corrections redistribute what the hemi-cube saw among the receivers; its
-  // total (one minus the empty pixels) stays as rendered, so no energy is made or lost.
-  // Grouped elements take their light from grouped() instead.
+  const Patch& patch = mesh_.patches[shot.patch];
+  // Near-field values redistribute what the hemi-cube saw among the receivers; its total
+  // (one minus the empty pixels) stays as rendered, so no energy is made or lost. Grouped
+  // elements take their light from grouped() instead.
   visible_ = hemicube.form_factors();
   std::erase_if(visible_, [&](const VisibleElement& v) { return grouped_[v.element]; });
-  const double near = near_field_radius(patch);
-  std::vector<std::size_t> close;
   double seen = 0;
   for (std::size_t k = 0; k < visible_.size(); ++k) {
-    const VisibleElement& v = visible_[k];
-    visible_slot_[v.element] = std::int32_t(k);
-    seen += v.form_factor;
-    if (glm::length(mesh_.elements[v.element].centroid - patch.centroid) < near) close.push_back(k);
+    visible_slot_[visible_[k].element] = std::int32_t(k);
+    seen += visible_[k].form_factor;
   }
+  std::vector<std::size_t> close;
+  for (std::size_t k = 0; k < visible_.size(); ++k)
+    if (glm::length(mesh_.elements[visible_[k].element].centroid - patch.centroid) <
+        near_field_radius(patch))
+      close.push_back(k);
   parallel_for(
       int(close.size()),
       [&](int k) {
@@ -517,9 +556,12 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
   const double scale = corrected > 0 ? seen / corrected : 0;
   for (VisibleElement& v : visible_) v.form_factor *= scale;
 
-  // The aliasing receivers and the groups, prepared while the hemi-cube rendered.
+  // What was prepared while the hemi-cube rendered: near receivers it did not see, the
+  // aliasing receivers and the groups.
   if (prepared_.valid()) {
     const Prepared prepared = prepared_.get();
+    for (const VisibleElement& s : hidden_near(shot, prepared.near))
+      if (s.form_factor > 0) visible_.push_back(s);
     for (const VisibleElement& s : prepared.aliased) {
       if (visible_slot_[s.element] >= 0)
         visible_[std::size_t(visible_slot_[s.element])].form_factor = s.form_factor;
