@@ -87,12 +87,14 @@ await inBrowser(server, async (browser) => {
   const walkFrames = () => page.evaluate(() => window.walk.view.drawn);
   const framesBefore = await walkFrames();
 
-  // Drag the amplitude slider: drafts follow it, a full-quality image ends it.
+  // Drag the amplitude slider: drafts follow it, a full-quality image ends it. The drag goes
+  // on (back and forth, at most 30 s) until a second draft came, however slow this machine
+  // renders them: one second of dragging had seen one draft on a loaded 2-core machine.
   const t0 = Date.now();
   await page.evaluate(async () => {
     const slider = document.getElementById("param-amplitude");
-    for (let i = 0; i <= 30; i++) {
-      slider.value = String(0.002 + i * 0.001);
+    for (let i = 0; i <= 30 || (window.viewerStats.drafts < 2 && i < 900); i++) {
+      slider.value = String(0.002 + (i % 60 < 30 ? i % 30 : 30 - (i % 30)) * 0.001);
       slider.dispatchEvent(new Event("input"));
       await new Promise((r) => setTimeout(r, 33));
     }
