@@ -223,7 +223,7 @@ class HemicubeFormFactors : public ShotFormFactors {
   const double alias_pixels_;
   std::optional<PatchRays> rays_;  // none: no aliasing fallback
   std::span<const double> open_;   // per element: open_share, or empty
-  std::vector<Vec3> near_points_;  // the shooter's quarter points, for near_field()
+  std::vector<Vec3> near_points_;  // the shooter's quarter points, for near_lambert()
   // A grouped element's visibility, blended from up to four lookouts near it (see the
   // constructor): indices in lookouts_ and their weights.
   struct Blend {
