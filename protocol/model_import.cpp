@@ -35,6 +35,12 @@ Vec3 vec(const aiVector3D& v) {
   return {v.x, v.y, v.z};
 }
 
+// A tangent and its handedness w, +1 where the bitangent lies along normal x tangent, -1
+// where against it (glTF's TANGENT), from a tangent and bitangent carried through a transform.
+glm::dvec4 with_handedness(const Vec3& normal, const Vec3& tangent, const Vec3& bitangent) {
+  return {tangent, glm::dot(glm::cross(normal, tangent), bitangent) < 0 ? -1.0 : 1.0};
+}
+
 // The corners of the box around a mesh's positions (there is at least one).
 std::pair<Vec3, Vec3> bounds(const TriangleMeshShape& m) {
   Vec3 lo = m.positions.front(), hi = lo;
@@ -252,6 +258,7 @@ class Reader {
       name += std::string("/") + mesh.mName.C_Str();
     TriangleMeshShape shape;
     shape.smooth = true;
+    const aiMatrix3x3 linear(to_world);
     aiMatrix3x3 normal_matrix(to_world);
     normal_matrix.Inverse().Transpose();
     // A mirroring transform turns the triangles inside out: their winding flips back.
@@ -265,6 +272,11 @@ class Reader {
       if (mesh.mNormals) {
         const Vec3 n = vec(normal_matrix * mesh.mNormals[v]);
         shape.normals.push_back(glm::length(n) > 0 ? glm::normalize(n) : n);
+        // Assimp gives glTF's TANGENT as the tangent and its bitangent w (normal x tangent).
+        if (mesh.mTangents && mesh.mBitangents)
+          shape.tangents.push_back(with_handedness(shape.normals.back(),
+                                                   vec(linear * mesh.mTangents[v]),
+                                                   vec(linear * mesh.mBitangents[v])));
       }
       // Assimp gives v up the texture (OpenGL's convention); bumprad's images run down their
       // rows, as glTF's texture coordinates do.
@@ -331,6 +343,8 @@ class Reader {
       m.positions.push_back(m.positions[v] - offset * n);
       if (!m.normals.empty()) m.normals.push_back(-m.normals[v]);
       if (!m.uvs.empty()) m.uvs.push_back(m.uvs[v]);
+      // The back's normal is the front's turned: the same tangent, the other handedness.
+      if (!m.tangents.empty()) m.tangents.push_back({Vec3(m.tangents[v]), -m.tangents[v].w});
     }
     const std::size_t count = m.triangles.size();
     for (std::size_t i = 0; i < count; ++i) {
@@ -479,6 +493,12 @@ void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
       p = point(p);
       if (!finite_within_limit(p))
         throw ModelError("object \"" + o.name + "\": the transform takes it beyond 1e12");
+    }
+    for (std::size_t v = 0; v < m.tangents.size(); ++v) {
+      const Vec3 n = m.normals[v], t = Vec3(m.tangents[v]);
+      const Vec3 moved = glm::length(normals * n) > 0 ? glm::normalize(normals * n) : n;
+      m.tangents[v] =
+          with_handedness(moved, linear * t, linear * (m.tangents[v].w * glm::cross(n, t)));
     }
     for (Vec3& n : m.normals)
       if (glm::length(normals * n) > 0) n = glm::normalize(normals * n);

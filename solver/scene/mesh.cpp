@@ -4,7 +4,10 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -146,6 +149,17 @@ int triangle_subdivisions(const TriangleMeshShape& m, const std::array<std::uint
 
 namespace {
 
+// What a triangle mesh's vertex brings to weld() beyond its position: a shading normal
+// that must agree too (zero: none); the angle its triangle spans there, by which weld()
+// averages the tangents it merges (zero: the first vertex's are kept); and whether its
+// triangle's (u, v) run mirrored, which must agree too (MikkTSpace keeps mirrored UV
+// islands' tangents apart where their seam's (u, v) coincide).
+struct WeldInfo {
+  Vec3 shading{0};
+  double angle = 0;
+  bool mirrored = false;
+};
+
 // Builds elements and patches for one surface at a time, welding vertices that coincide
 // (sphere poles, cylinder seams, shared triangle-mesh edges) so that the surface is smooth.
 class SurfaceBuilder {
@@ -156,19 +170,19 @@ class SurfaceBuilder {
   void begin_surface() {
     surface_ = mesh_.surface_count++;
     first_vertex_ = std::uint32_t(mesh_.vertices.size());
-    shading_.clear();
+    corners_.clear();
   }
 
-  // `shading`: a normal that must also agree for the vertex to be welded (zero: none).
   std::uint32_t add_vertex(const Vec3& p, glm::dvec2 uv, const Vec3& dpdu, const Vec3& dpdv,
-                           const Vec3& shading = Vec3(0)) {
+                           const WeldInfo& corner = {}) {
     mesh_.vertices.push_back({p, Vec3(0), uv, dpdu, dpdv});
-    shading_.push_back(shading);
+    corners_.push_back(corner);
     return std::uint32_t(mesh_.vertices.size() - 1);
   }
 
   // Merges coincident vertices added since begin_surface() (sort-and-sweep along x); with
-  // `match_uv` or `match_shading`, only those whose (u, v) or shading normals agree too.
+  // `match_uv` or `match_shading`, only those whose (u, v) and mirroring or shading normals
+  // agree too.
   void weld(bool match_uv = false, bool match_shading = false) {
     std::uint32_t n = std::uint32_t(mesh_.vertices.size()) - first_vertex_;
     remap_.resize(n);
@@ -185,12 +199,15 @@ class SurfaceBuilder {
         if (vs[b].position.x - vs[a].position.x > weld_tol_) break;
         if (glm::length(vs[b].position - vs[a].position) <= weld_tol_ &&
             remap_[b - first_vertex_] == b &&
-            (!match_uv || glm::length(vs[b].uv - vs[a].uv) <= 1e-9) &&
-            (!match_shading ||
-             glm::length(shading_[b - first_vertex_] - shading_[a - first_vertex_]) <= 1e-3))
+            (!match_uv ||
+             (glm::length(vs[b].uv - vs[a].uv) <= 1e-9 &&
+              corners_[b - first_vertex_].mirrored == corners_[a - first_vertex_].mirrored)) &&
+            (!match_shading || glm::length(corners_[b - first_vertex_].shading -
+                                           corners_[a - first_vertex_].shading) <= 1e-3))
           remap_[b - first_vertex_] = a;
       }
     }
+    average_tangents();
     // Only the vertices merged into are kept (a smooth triangle mesh adds three a triangle,
     // about six times what it shares): renumbered in order, remap_ pointing at the new ids.
     std::vector<std::uint32_t> renumbered(n);
@@ -202,6 +219,42 @@ class SurfaceBuilder {
       }
     for (std::uint32_t i = 0; i < n; ++i) remap_[i] = renumbered[remap_[i] - first_vertex_];
     vs.resize(kept);
+  }
+
+  // A merged vertex's tangents as MikkTSpace builds them: the directions of its triangles'
+  // tangents, each in the plane of the shading normal where there is one, weighted by the
+  // angle each triangle spans there; their lengths likewise averaged (Blinn's perturbation
+  // needs them). Independent of the triangles' order, and smooth across them.
+  void average_tangents() {
+    const std::uint32_t n = std::uint32_t(remap_.size());
+    struct Sum {
+      Vec3 du{0}, dv{0};
+      double length_u = 0, length_v = 0, angle = 0;
+    };
+    std::vector<Sum> sums(n);
+    auto direction = [](const Vec3& t, const Vec3& shading) {
+      const Vec3 unit = glm::length(shading) > 0 ? glm::normalize(shading) : shading;
+      const Vec3 in_plane = t - unit * glm::dot(unit, t);
+      return glm::length(in_plane) > 0 ? glm::normalize(in_plane) : Vec3(0);
+    };
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const WeldInfo& c = corners_[i];
+      if (!(c.angle > 0)) continue;
+      const Vertex& v = mesh_.vertices[first_vertex_ + i];
+      Sum& s = sums[remap_[i] - first_vertex_];
+      s.du += c.angle * direction(v.dpdu, c.shading);
+      s.dv += c.angle * direction(v.dpdv, c.shading);
+      s.length_u += c.angle * glm::length(v.dpdu);
+      s.length_v += c.angle * glm::length(v.dpdv);
+      s.angle += c.angle;
+    }
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Sum& s = sums[i];
+      Vertex& v = mesh_.vertices[first_vertex_ + i];
+      if (!(s.angle > 0) || !(glm::length(s.du) > 0) || !(glm::length(s.dv) > 0)) continue;
+      v.dpdu = glm::normalize(s.du) * (s.length_u / s.angle);
+      v.dpdv = glm::normalize(s.dv) * (s.length_v / s.angle);
+    }
   }
 
   std::uint32_t patch_for(std::uint64_t key) {
@@ -279,7 +332,7 @@ class SurfaceBuilder {
   std::uint32_t first_vertex_ = 0;
   std::uint64_t own_groups_ = 0;
   std::vector<std::uint32_t> remap_;
-  std::vector<Vec3> shading_;  // per vertex since begin_surface(), for weld()
+  std::vector<WeldInfo> corners_;  // per vertex since begin_surface(), for weld()
   std::map<std::uint64_t, std::uint32_t> patch_keys_;
   std::vector<std::vector<std::pair<std::uint64_t, Element>>> pending_;  // group key, element
 };
@@ -320,9 +373,11 @@ void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
 // dp/du, dp/dv that go with it. With the mesh's own uvs the tangents follow them (the
 // convention of MikkTSpace per triangle: dp/du along increasing u); where those uvs are
 // degenerate on a triangle, or there are none, the triangle's own parameterisation.
+// `mirrored`: the (u, v) turn clockwise where the triangle's corners turn counter-clockwise.
 struct TriangleUv {
   glm::dvec2 origin, along_b, along_c;
   Vec3 dpdu, dpdv;
+  bool mirrored = false;
 };
 TriangleUv triangle_uv(const TriangleMeshShape& m, const std::array<std::uint32_t, 3>& t) {
   const Vec3 e1 = m.positions[t[1]] - m.positions[t[0]], e2 = m.positions[t[2]] - m.positions[t[0]];
@@ -333,7 +388,28 @@ TriangleUv triangle_uv(const TriangleMeshShape& m, const std::array<std::uint32_
   const double scale = std::max(glm::dot(d1, d1), glm::dot(d2, d2));
   if (!(std::abs(det) > 1e-12 * scale)) return {u0, d1, d2, e1, e2};
   // [e1 e2] = [dpdu dpdv] [d1 d2]: invert the 2 x 2 uv matrix.
-  return {u0, d1, d2, (e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det};
+  return {u0, d1, d2, (e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det, det < 0};
+}
+
+// The angles of triangle (a, b, c) at its corners.
+std::array<double, 3> corner_angles(const Vec3& a, const Vec3& b, const Vec3& c) {
+  auto at = [](const Vec3& p, const Vec3& q, const Vec3& r) {
+    const Vec3 x = q - p, y = r - p;
+    return std::atan2(glm::length(glm::cross(x, y)), glm::dot(x, y));
+  };
+  return {at(a, b, c), at(b, c, a), at(c, a, b)};
+}
+
+// Tangents at a point of a triangle with the model's own tangent there (glTF's TANGENT:
+// xyz along increasing u, w the handedness, up the texture along w n x t): dp/du along t
+// and dp/dv, down the texture, along -w n x t, both in the plane of the normal n, each
+// as long as the triangle's (u, v) make it.
+std::pair<Vec3, Vec3> own_tangents(const TriangleUv& map, const Vec3& n, const glm::dvec4& t) {
+  const Vec3 along = Vec3(t) - n * glm::dot(n, Vec3(t));
+  if (!(glm::length(along) > 0)) return {map.dpdu, map.dpdv};
+  const Vec3 u = glm::normalize(along);
+  return {u * glm::length(map.dpdu),
+          -(t.w < 0 ? -1.0 : 1.0) * glm::cross(n, u) * glm::length(map.dpdv)};
 }
 
 // The patch (or group) of a triangle mesh's element: elements share one when their
@@ -382,19 +458,38 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
           sb.add_element(patch, {id(i + 1, j), id(i + 1, j + 1), id(i, j + 1), 0}, 3);
       }
   };
+  // Each grid vertex carries the angle its triangle spans there: a corner's own, pi along an
+  // edge, 2 pi inside (where nothing welds to it).
   auto add_grid = [&](const std::array<std::uint32_t, 3>& t) {
     Vec3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
     const TriangleUv map = triangle_uv(m, t);
+    const std::array<double, 3> angles = corner_angles(a, b, c);
+    const Vec3 facing = glm::normalize(glm::cross(b - a, c - a));
     TriangleGrid g{triangle_subdivisions(m, t, d, size), 0};
     for (int j = 0; j <= g.n; ++j)
       for (int i = 0; i + j <= g.n; ++i) {
         double u = double(i) / g.n, v = double(j) / g.n;
-        Vec3 shading(0);
-        if (!m.normals.empty())
-          shading = (1 - u - v) * m.normals[t[0]] + u * m.normals[t[1]] + v * m.normals[t[2]];
-        std::uint32_t id = sb.add_vertex(a + u * (b - a) + v * (c - a),
-                                         map.origin + u * map.along_b + v * map.along_c, map.dpdu,
-                                         map.dpdv, shading);
+        auto at = [&](const auto& values) {
+          return (1 - u - v) * values[t[0]] + u * values[t[1]] + v * values[t[2]];
+        };
+        WeldInfo corner;
+        if (!m.normals.empty()) corner.shading = at(m.normals);
+        corner.angle = i + j == 0                   ? angles[0]
+                       : i == g.n                   ? angles[1]
+                       : j == g.n                   ? angles[2]
+                       : i * j == 0 || i + j == g.n ? std::numbers::pi
+                                                    : 2 * std::numbers::pi;
+        corner.mirrored = map.mirrored;
+        Vec3 dpdu = map.dpdu, dpdv = map.dpdv;
+        if (!m.tangents.empty()) {
+          const Vec3 n = glm::length(corner.shading) > 0 ? glm::normalize(corner.shading) : facing;
+          const glm::dvec4 own(Vec3(at(m.tangents)), m.tangents[t[0]].w);
+          std::tie(dpdu, dpdv) = own_tangents(map, n, own);
+          corner.mirrored = own.w < 0;
+        }
+        std::uint32_t id =
+            sb.add_vertex(a + u * (b - a) + v * (c - a),
+                          map.origin + u * map.along_b + v * map.along_c, dpdu, dpdv, corner);
         if (i == 0 && j == 0) g.first_vertex = id;
       }
     return g;

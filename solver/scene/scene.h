@@ -4,12 +4,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
 
-#include <memory>
+#include <glm/vec4.hpp>
 
 #include "solver/util/image.h"
 #include "solver/util/math.h"
@@ -118,6 +119,11 @@ struct TriangleMeshShape {
   // UV seams stay apart.
   std::vector<glm::dvec2> uvs;
   std::vector<Vec3> normals;
+  // Per position, or empty: a model's own tangents (glTF's TANGENT), xyz along increasing u
+  // and w = +-1 its handedness: w (normal x xyz) points up the texture. They set the bump
+  // and normal-map frame's directions; without them it follows the (u, v), averaged over a
+  // smooth mesh's triangles at each vertex as MikkTSpace does.
+  std::vector<glm::dvec4> tangents;
 };
 using Shape = std::variant<QuadShape, BoxShape, SphereShape, CylinderShape, TriangleMeshShape>;
 

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include "protocol/base64.h"
@@ -199,6 +200,66 @@ TEST(ModelImport, EmissiveStrengthMultipliesTheEmission) {
                "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 12}}})"));
   const Material& m = model.materials[std::size_t(model.objects[0].material)];
   EXPECT_NEAR(glm::length(m.emission - 12 * std::numbers::pi * Rgb(1, 0.5, 0.25)), 0, 1e-5);
+}
+
+// A unit quad in z = 0 with normals and a TANGENT a quarter turn from what its (u, v) give
+// (+y, w = +1), under a node that mirrors x.
+std::filesystem::path tangent_quad_gltf(const std::filesystem::path& dir) {
+  const float positions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const float normals[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
+  const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
+  const float tangents[] = {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1};
+  const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
+  std::string bytes(reinterpret_cast<const char*>(positions), sizeof positions);
+  bytes.append(reinterpret_cast<const char*>(normals), sizeof normals);
+  bytes.append(reinterpret_cast<const char*>(uvs), sizeof uvs);
+  bytes.append(reinterpret_cast<const char*>(tangents), sizeof tangents);
+  bytes.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  std::ofstream(dir / "tangents.bin", std::ios::binary) << bytes;
+  std::ofstream(dir / "tangents.gltf") << R"({
+  "asset": {"version": "2.0"},
+  "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [{"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
+  "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1,
+              "TEXCOORD_0": 2, "TANGENT": 3}, "indices": 4, "material": 0}]}],
+  "materials": [{"name": "plain", "pbrMetallicRoughness": {"metallicFactor": 0}}],
+  "buffers": [{"uri": "tangents.bin", "byteLength": 204}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                  {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                  {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+                  {"buffer": 0, "byteOffset": 128, "byteLength": 64},
+                  {"buffer": 0, "byteOffset": 192, "byteLength": 12}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 1, 0]},
+                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+                {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC4"},
+                {"bufferView": 4, "componentType": 5123, "count": 6, "type": "SCALAR"}]
+})";
+  return dir / "tangents.gltf";
+}
+
+// A file's TANGENT sets the normal-map frame: carried through the node's mirror (which
+// keeps +y and turns the handedness: w (n x t) was -x up the texture, and the mirror makes
+// it +x), and through a placement's mirror back again.
+TEST(ModelImport, TangentsFromTheFileTurnWithTheirTransforms) {
+  const auto dir = test::fresh_temp_dir("import-tangents");
+  ImportedModel model = import_model(tangent_quad_gltf(dir));
+  ASSERT_EQ(model.objects.size(), 1u);
+  const auto& shape = std::get<TriangleMeshShape>(model.objects[0].shape);
+  ASSERT_EQ(shape.tangents.size(), shape.positions.size());
+  for (const glm::dvec4& t : shape.tangents)
+    EXPECT_NEAR(glm::length(t - glm::dvec4(0, 1, 0, -1)), 0, 1e-6);
+  // dp/du along the tangent, dp/dv (down the texture) against w (n x t); both unit long, as
+  // the unit quad's (u, v) make them.
+  Scene scene = load_scene(tangent_quad_gltf(dir).string());
+  for (const Vertex& v : build_mesh(scene).vertices) {
+    EXPECT_NEAR(glm::length(v.dpdu - Vec3(0, 1, 0)), 0, 1e-6);
+    EXPECT_NEAR(glm::length(v.dpdv - Vec3(-1, 0, 0)), 0, 1e-6);
+  }
+  transform_model(model, glm::scale(glm::dmat4(1), Vec3(-1, 1, 1)));
+  for (const glm::dvec4& t : std::get<TriangleMeshShape>(model.objects[0].shape).tangents)
+    EXPECT_NEAR(glm::length(t - glm::dvec4(0, 1, 0, 1)), 0, 1e-6);
 }
 
 // A glTF camera stands at its node's origin, looks along the node's -z, and keeps the file's

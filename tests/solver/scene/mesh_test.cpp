@@ -2,6 +2,8 @@
 // element-count estimate the parser relies on to refuse oversized scenes.
 #include "solver/scene/mesh.h"
 
+#include <algorithm>
+#include <cmath>
 #include <numbers>
 #include <set>
 
@@ -256,6 +258,92 @@ TEST(Mesh, UvSeamsAndCreasesKeepTheirVerticesApart) {
   EXPECT_EQ(used_vertices(build_mesh(whole(crease))), 6u);
   crease.normals.assign(6, {0, 0, 1});
   EXPECT_EQ(used_vertices(build_mesh(whole(crease))), 4u);
+}
+
+// The vertex at `position` that the elements use (the first one, if a seam keeps several).
+const Vertex& vertex_at(const Mesh& m, const Vec3& position) {
+  for (const Element& e : m.elements)
+    for (int k = 0; k < e.vertex_count; ++k)
+      if (glm::length(m.vertices[e.v[std::size_t(k)]].position - position) < 1e-12)
+        return m.vertices[e.v[std::size_t(k)]];
+  ADD_FAILURE() << "no vertex at the position";
+  return m.vertices.front();
+}
+
+// A fan of five triangles around a centre whose (u, v) are stretched unevenly, so that each
+// triangle's dp/du and dp/dv differ. The centre's tangents are MikkTSpace's: the triangles'
+// directions weighted by the angle each spans at the centre, and their lengths likewise,
+// whatever order the triangles come in (the first triangle's alone were kept before).
+TEST(Mesh, ASmoothMeshsTangentsAreItsTrianglesAngleWeightedMean) {
+  TriangleMeshShape fan;
+  fan.smooth = true;
+  fan.positions = {{0, 0, 0}, {1, 0, 0}, {0.3, 1, 0}, {-1, 0.6, 0}, {-0.7, -0.8, 0}, {0.4, -1, 0}};
+  fan.uvs = {{0.5, 0.5}, {0.9, 0.45}, {0.6, 0.95}, {0.1, 0.7}, {0.2, 0.2}, {0.55, 0.1}};
+  fan.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 1}};
+  Vec3 du(0), dv(0);
+  double length_u = 0, length_v = 0, angles = 0;
+  for (const auto& t : fan.triangles) {
+    const Vec3 e1 = fan.positions[t[1]] - fan.positions[t[0]];
+    const Vec3 e2 = fan.positions[t[2]] - fan.positions[t[0]];
+    const glm::dvec2 d1 = fan.uvs[t[1]] - fan.uvs[t[0]], d2 = fan.uvs[t[2]] - fan.uvs[t[0]];
+    const double det = d1.x * d2.y - d1.y * d2.x;
+    const Vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det, dpdv = (e2 * d1.x - e1 * d2.x) / det;
+    const double angle = std::acos(glm::dot(glm::normalize(e1), glm::normalize(e2)));
+    du += angle * glm::normalize(dpdu), dv += angle * glm::normalize(dpdv);
+    length_u += angle * glm::length(dpdu), length_v += angle * glm::length(dpdv);
+    angles += angle;
+  }
+  const Vec3 want_u = glm::normalize(du) * (length_u / angles);
+  const Vec3 want_v = glm::normalize(dv) * (length_v / angles);
+  TriangleMeshShape reversed = fan;
+  std::reverse(reversed.triangles.begin(), reversed.triangles.end());
+  for (const TriangleMeshShape& shape : {fan, reversed}) {
+    const Mesh m = build_mesh(whole(shape));
+    ASSERT_EQ(used_vertices(m), 6u);
+    const Vertex& centre = vertex_at(m, {0, 0, 0});
+    EXPECT_NEAR(glm::length(centre.dpdu - want_u), 0, 1e-9 * glm::length(want_u));
+    EXPECT_NEAR(glm::length(centre.dpdv - want_v), 0, 1e-9 * glm::length(want_v));
+  }
+}
+
+// Two triangles whose (u, v) mirror each other across their shared edge, as a model's
+// mirrored UV islands do: the edge's (u, v) agree, but the frames turn opposite ways, so its
+// vertices stay apart and each triangle keeps its own tangents (averaged, they would cancel).
+TEST(Mesh, MirroredUvIslandsKeepTheirOwnTangentsAlongTheirSeam) {
+  TriangleMeshShape mirrored = uv_rectangle();
+  mirrored.uvs[3] = {1, 0};  // position 3 reflected across the diagonal (0, 0)-(1, 1)
+  const Mesh m = build_mesh(whole(mirrored));
+  EXPECT_EQ(used_vertices(m), 6u);
+  ASSERT_EQ(m.elements.size(), 2u);
+  for (const Element& e : m.elements) {
+    const bool first = e.centroid.y < e.centroid.x / 2;  // below the diagonal: {0, 1, 2}
+    for (int k = 0; k < 3; ++k) {
+      const Vertex& v = m.vertices[e.v[std::size_t(k)]];
+      EXPECT_NEAR(glm::length(v.dpdu - (first ? Vec3(2, 0, 0) : Vec3(0, 1, 0))), 0, 1e-12);
+      EXPECT_NEAR(glm::length(v.dpdv - (first ? Vec3(0, 1, 0) : Vec3(2, 0, 0))), 0, 1e-12);
+    }
+  }
+}
+
+// A model's own tangents (glTF's TANGENT) set the frame's directions, its (u, v) their
+// lengths: tangents that agree with the (u, v) give the frame they give (the convention:
+// w (n x t) points up the texture, against v), and tangents turned a quarter turn turn it.
+TEST(Mesh, AMeshsOwnTangentsSetTheFramesDirections) {
+  TriangleMeshShape m = uv_rectangle();
+  m.normals.assign(4, {0, 0, 1});
+  m.tangents.assign(4, {1, 0, 0, -1});
+  for (const Vertex& v : build_mesh(whole(m)).vertices) {
+    EXPECT_NEAR(glm::length(v.dpdu - Vec3(2, 0, 0)), 0, 1e-12);
+    EXPECT_NEAR(glm::length(v.dpdv - Vec3(0, 1, 0)), 0, 1e-12);
+  }
+  m.tangents.assign(4, {0, 1, 0, 1});
+  for (const Vertex& v : build_mesh(whole(m)).vertices) {
+    EXPECT_NEAR(glm::length(v.dpdu - Vec3(0, 2, 0)), 0, 1e-12);
+    EXPECT_NEAR(glm::length(v.dpdv - Vec3(1, 0, 0)), 0, 1e-12);
+  }
+  m.tangents.assign(4, {0, 1, 0, -1});
+  for (const Vertex& v : build_mesh(whole(m)).vertices)
+    EXPECT_NEAR(glm::length(v.dpdv - Vec3(-1, 0, 0)), 0, 1e-12);
 }
 
 }  // namespace
