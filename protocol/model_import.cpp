@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <numbers>
+#include <string_view>
 #include <utility>
 
 #include <assimp/GltfMaterial.h>
@@ -174,6 +175,13 @@ class Reader {
           ": its emissive texture is read as its mean (emission is uniform over a "
           "surface)");
     }
+    // Every surface in bumprad is opaque: a cut-out (MASK) or see-through (BLEND) part
+    // casts its whole shadow and shows its colour.
+    aiString alpha_mode;
+    if (m.Get(AI_MATKEY_GLTF_ALPHAMODE, alpha_mode) == AI_SUCCESS &&
+        std::string_view(alpha_mode.C_Str()) != "OPAQUE")
+      material_warnings_.back().push_back(what + ": its alphaMode " + alpha_mode.C_Str() +
+                                          " is read as OPAQUE (bumprad's surfaces are opaque)");
     out.emission = std::numbers::pi * radiance;
     if (!(glm::all(glm::greaterThanEqual(out.emission, Rgb(0)))) ||
         !std::isfinite(out.emission.r + out.emission.g + out.emission.b))

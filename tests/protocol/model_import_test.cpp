@@ -262,6 +262,21 @@ TEST(ModelImport, TangentsFromTheFileTurnWithTheirTransforms) {
     EXPECT_NEAR(glm::length(t - glm::dvec4(0, 1, 0, 1)), 0, 1e-6);
 }
 
+// Cut-outs and see-through materials are drawn opaque, and the import says so.
+TEST(ModelImport, AlphaModesOtherThanOpaqueAreNamedInAWarning) {
+  for (const std::string mode : {"MASK", "BLEND", "OPAQUE"}) {
+    const auto dir = test::fresh_temp_dir("import-alpha");
+    const ImportedModel model = import_model(
+        mirrored_quad_gltf(dir, R"({"name": "leaf", "alphaMode": ")" + mode + R"("})"));
+    const bool warned =
+        std::any_of(model.warnings.begin(), model.warnings.end(), [&](const std::string& w) {
+          return w.find("material \"leaf\": its alphaMode " + mode + " is read as OPAQUE") !=
+                 std::string::npos;
+        });
+    EXPECT_EQ(warned, mode != "OPAQUE") << mode;
+  }
+}
+
 // A glTF camera stands at its node's origin, looks along the node's -z, and keeps the file's
 // vertical field of view and aspect ratio (Assimp alone put it at twice the node's
 // translation with twice the angle: a room rendered small and off centre).
