@@ -77,6 +77,15 @@ std::string submit(Node& node, const std::string& body, const std::string& key =
   return job_from_json(res.body()).id;
 }
 
+// Submits a small job straight to the store; its record as submitted.
+JobRecord submit_one(PostgresStore& store) {
+  JobRecord r;
+  r.id = new_job_id();
+  r.created = unix_now();
+  store.submit(r, test::small_scene_json(5), "");
+  return r;
+}
+
 TEST_F(Postgres, AnApiNodeServesWhatAWorkerNodeSolves) {
   const std::string url = fresh_database();
   Node api(node(url, 0));
@@ -188,10 +197,7 @@ TEST_F(Postgres, ARetriedSubmissionGetsTheSameJobOnAnyNode) {
 TEST_F(Postgres, AnExpiredLeaseRunsTheJobAgainUpToTheAttemptLimit) {
   const std::string url = fresh_database();
   PostgresStore store(url, {}, {.lease_s = 0.3, .max_attempts = 2});
-  JobRecord r;
-  r.id = new_job_id();
-  r.created = 1;
-  store.submit(r, test::small_scene_json(5), "");
+  const JobRecord r = submit_one(store);
   // A worker that claims and vanishes.
   auto first = store.claim("lost/0");
   ASSERT_TRUE(first);
@@ -216,10 +222,7 @@ TEST_F(Postgres, AnExpiredLeaseRunsTheJobAgainUpToTheAttemptLimit) {
 TEST_F(Postgres, AStepWrittenAgainAfterACommitInDoubtIsStoredOnce) {
   const std::string url = fresh_database();
   PostgresStore store(url, {});
-  JobRecord r;
-  r.id = new_job_id();
-  r.created = 1;
-  store.submit(r, test::small_scene_json(5), "");
+  const JobRecord r = submit_one(store);
   auto claim = store.claim("w/0");
   ASSERT_TRUE(claim);
   JobRecord first = claim->record, again = claim->record;
@@ -240,10 +243,7 @@ TEST_F(Postgres, RetentionEvictsTheLeastRecentlyUsedFinishedJobs) {
   options.retention.max_jobs = 2;
   PostgresStore store(fresh_database(), options, {.retention_interval_s = 0});
   auto run = [&] {
-    JobRecord r;
-    r.id = new_job_id();
-    r.created = unix_now();
-    store.submit(r, test::small_scene_json(5), "");
+    const JobRecord r = submit_one(store);
     auto claim = store.claim("w/0");
     EXPECT_TRUE(claim);
     claim->record.state = JobState::Done;

@@ -253,6 +253,25 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
   EXPECT_LT(worst, 0.2);
 }
 
+// One shot of a scene whose floor glows: material 1 (the floors' last argument to
+// test::quad) emits 1 with reflectance `rho`; patches shoot from their open parts.
+struct FirstShot {
+  Mesh mesh;
+  std::vector<Rgb> radiosity;
+};
+FirstShot shoot_once(Scene s, double rho) {
+  Material glow;
+  glow.reflectance = Rgb(rho);
+  glow.emission = Rgb(1);
+  s.materials.push_back(glow);
+  FirstShot out{build_mesh(s), {}};
+  const RayScene rays(out.mesh);
+  ProgressiveSolver solver(out.mesh, s.materials, s.solver, &rays, open_share(out.mesh, rays));
+  EXPECT_TRUE(solver.shoot());
+  out.radiosity = solver.radiosity();
+  return out;
+}
+
 // A glowing floor of one patch, a block across it and, beyond the block, a wall facing back
 // towards the patch's centre, which the block hides from it: only the strip of floor
 // between the block and the wall lights the wall. The hemi-cube at the centre sees none of
@@ -269,22 +288,14 @@ TEST(Progressive, ANearReceiverHiddenFromThePatchCentreIsLitByTheRestOfThePatch)
   Object wall =
       test::quad({Vec3(1.6, 0, 0), Vec3(1.6, 0, 0.3), Vec3(1.6, 1, 0.3), Vec3(1.6, 1, 0)}, 3, 10);
   Scene s = test::scene_of({floor, block, wall}, 0.5);
-  Material glow;
-  glow.reflectance = Rgb(0);
-  glow.emission = Rgb(1);
-  s.materials.push_back(glow);
   s.solver.element_size = 0.1;
-  Mesh mesh = build_mesh(s);
+  const auto [mesh, radiosity] = shoot_once(s, 0);
   ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 200u) << "the floor is one patch";
-  RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open);
-  ASSERT_TRUE(solver.shoot());
   double light = 0, area = 0;
   for (std::size_t i = 0; i < mesh.elements.size(); ++i)
     if (mesh.elements[i].object == 2) {
       ASSERT_LT(mesh.elements[i].normal.x, -0.99) << "the wall faces the patch's centre";
-      light += solver.radiosity()[i].g * mesh.elements[i].area;
+      light += radiosity[i].g * mesh.elements[i].area;
       area += mesh.elements[i].area;
     }
   const std::vector<Vec3> strip{Vec3(1.4, 0, 0), Vec3(1.6, 0, 0), Vec3(1.6, 1, 0), Vec3(1.4, 1, 0)};
@@ -312,21 +323,13 @@ TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
   Object behind = test::quad(
       {Vec3(2.3, 0.4, 0.1), Vec3(2.3, 0.4, 0.3), Vec3(2.3, 0.6, 0.3), Vec3(2.3, 0.6, 0.1)});
   Scene s = test::scene_of({floor, block, behind}, 0.5);
-  Material glow;
-  glow.reflectance = Rgb(0.5);
-  glow.emission = Rgb(1);
-  s.materials.push_back(glow);
   s.solver.hemicube_resolution = 64;
-  Mesh mesh = build_mesh(s);
+  const auto [mesh, radiosity] = shoot_once(s, 0.5);
   ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 2u) << "the floor is one patch";
-  RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open);
-  ASSERT_TRUE(solver.shoot());
   double block_light = 0, behind_light = 0;
   for (std::size_t i = 0; i < mesh.elements.size(); ++i)
     (mesh.elements[i].object == 1 ? block_light : behind_light) +=
-        mesh.elements[i].object == 0 ? 0 : solver.radiosity()[i].g * mesh.elements[i].area;
+        mesh.elements[i].object == 0 ? 0 : radiosity[i].g * mesh.elements[i].area;
   std::printf("light on the block %.3g, behind it %.3g\n", block_light, behind_light);
   EXPECT_GT(block_light, 0.01);
   EXPECT_EQ(behind_light, 0.0);
@@ -351,18 +354,12 @@ TEST(Progressive, RaysFromAHalfBuriedPatchCountItsOpenHalf) {
     Object receiver = test::quad(test::rectangle_facing_down(size, size, height));
     for (Vec3& c : std::get<QuadShape>(receiver.shape).corners) c += Vec3(0.5, 0.5, 0);
     Scene s = test::scene_of({floor, block, receiver}, 0.5);
-    Material glow;
-    glow.reflectance = Rgb(0);  // nothing to overshoot: the patch shoots just its 2 E
-    glow.emission = Rgb(1);
-    s.materials.push_back(glow);
     s.solver.hemicube_resolution = 32;
-    const Mesh mesh = build_mesh(s);
-    const RayScene rays(mesh);
-    ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open_share(mesh, rays));
-    ASSERT_TRUE(solver.shoot());
+    // Reflectance 0: nothing to overshoot, so the patch shoots just its 2 E.
+    const std::vector<Rgb> radiosity = shoot_once(s, 0).radiosity;
     const std::array<Vec3, 4> open = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
     const double exact = point_to_polygon(Vec3(0.5, 0.5, height), Vec3(0, 0, -1), open);
-    EXPECT_NEAR(solver.radiosity().back().g / exact, 1, 0.02) << height << " m up";
+    EXPECT_NEAR(radiosity.back().g / exact, 1, 0.02) << height << " m up";
   }
 }
 
