@@ -20,15 +20,15 @@ namespace {
 constexpr int kMapShadowRays = 64;
 
 // What of a solution the light does not change: the mesh, its (empty) map, its rays, open
-// shares and near sets.
-Solution prepared(const Scene& scene, std::unique_ptr<Mesh> mesh) {
+// shares and near sets. After a stop, partial.
+Solution prepared(const Scene& scene, std::unique_ptr<Mesh> mesh, std::stop_token stop) {
   Solution out;
   out.mesh = std::move(mesh);
   out.map = make_map(scene, *out.mesh);
   out.rays = std::make_unique<RayScene>(*out.mesh);
-  out.open = open_share(*out.mesh, *out.rays);
-  if (scene.solver.direct_light == DirectLight::Exact)
-    out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open);
+  out.open = open_share(*out.mesh, *out.rays, stop);
+  if (scene.solver.direct_light == DirectLight::Exact && !stop.stop_requested())
+    out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open, stop);
   return out;
 }
 
@@ -48,7 +48,8 @@ void gather_map(const Scene& scene, Solution& out, std::stop_token stop) {
 Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepCallback& on_step,
                   std::stop_token stop) {
   auto t0 = Clock::now();
-  Solution out = prepared(scene, std::move(mesh_in));
+  Solution out = prepared(scene, std::move(mesh_in), stop);
+  if (stop.stop_requested()) return out;
   const Mesh& mesh = *out.mesh;
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
@@ -145,8 +146,14 @@ std::unique_ptr<Mesh> refined_mesh(const Scene& scene,
 Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token stop) {
   auto t0 = Clock::now();
   std::vector<std::vector<std::uint32_t>> refinements;
-  auto mesh = std::make_unique<Mesh>(build_mesh(scene));
+  auto mesh = std::make_unique<Mesh>(build_mesh(scene, stop));
   double setup = seconds_since(t0);
+  if (stop.stop_requested()) {
+    Solution out;
+    out.mesh = std::move(mesh);
+    out.stats.seconds_setup = setup;
+    return out;
+  }
   for (int level = 0;; ++level) {
     Solution out = solve_on(scene, std::move(mesh), on_step, stop);
     setup += out.stats.seconds_setup;

@@ -107,7 +107,8 @@ class VertexElements {
 
 }  // namespace
 
-NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
+NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open,
+                     std::stop_token stop)
     : mesh_(mesh), first_(mesh.vertices.size() + 1, 0), covered_(mesh.vertices.size(), 0.0) {
   const std::size_t vertex_count = mesh.vertices.size(), element_count = mesh.elements.size();
   if (element_count == 0) return;
@@ -140,45 +141,48 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
 
   // Per vertex, on every core; then laid end to end.
   std::vector<std::vector<Term>> per_vertex(vertex_count);
-  parallel_for(int(vertex_count), [&](int index) {
-    const std::uint32_t v = std::uint32_t(index);
-    const std::span<const std::uint32_t> around = adjacent.of(v);
-    double size = 0, open_area = 0;
-    for (std::uint32_t i : around) {
-      size = std::max(size, std::sqrt(mesh.elements[i].area));
-      open_area += mesh.elements[i].area * (open.empty() ? 1 : open[i]);
-    }
-    if (!(open_area > 0)) return;
-    const Vec3& p = mesh.vertices[v].position;
-    const std::uint32_t surface = mesh.elements[around.front()].surface;
-    std::vector<std::uint32_t> candidates;
-    grid.near(p, kReach * size, candidates);
-    std::vector<std::vector<Vec3>> points;
-    for (std::uint32_t i : around) points.push_back(area_points(mesh, mesh.elements[i]));
-    std::vector<Term>& terms = per_vertex[v];
-    double covered = 0;
-    for (std::uint32_t j : candidates) {
-      const Element& ej = mesh.elements[j];
-      if (ej.surface == surface || glm::length(ej.centroid - p) - radius[j] > kReach * size ||
-          !seen_from(around, ej))
-        continue;
-      // Averaged as vertex_radiosity() averages: each element's whole area, over the open
-      // area (a buried point lies behind the faces that bury it and sees none of them).
-      double sum = 0;
-      for (std::size_t a = 0; a < around.size(); ++a) {
-        const Element& e = mesh.elements[around[a]];
-        double mean = 0;
-        for (const Vec3& q : points[a]) mean += form_factor(mesh, ej, q, e.normal);
-        sum += e.area * mean / double(points[a].size());
-      }
-      if (sum > 0) {
-        terms.push_back({j, sum / open_area});
-        covered += sum / open_area;
-      }
-    }
-    if (covered > kMaxCovered) terms.clear();
-    covered_[v] = terms.empty() ? 0 : covered;
-  });
+  parallel_for(
+      int(vertex_count),
+      [&](int index) {
+        const std::uint32_t v = std::uint32_t(index);
+        const std::span<const std::uint32_t> around = adjacent.of(v);
+        double size = 0, open_area = 0;
+        for (std::uint32_t i : around) {
+          size = std::max(size, std::sqrt(mesh.elements[i].area));
+          open_area += mesh.elements[i].area * (open.empty() ? 1 : open[i]);
+        }
+        if (!(open_area > 0)) return;
+        const Vec3& p = mesh.vertices[v].position;
+        const std::uint32_t surface = mesh.elements[around.front()].surface;
+        std::vector<std::uint32_t> candidates;
+        grid.near(p, kReach * size, candidates);
+        std::vector<std::vector<Vec3>> points;
+        for (std::uint32_t i : around) points.push_back(area_points(mesh, mesh.elements[i]));
+        std::vector<Term>& terms = per_vertex[v];
+        double covered = 0;
+        for (std::uint32_t j : candidates) {
+          const Element& ej = mesh.elements[j];
+          if (ej.surface == surface || glm::length(ej.centroid - p) - radius[j] > kReach * size ||
+              !seen_from(around, ej))
+            continue;
+          // Averaged as vertex_radiosity() averages: each element's whole area, over the open
+          // area (a buried point lies behind the faces that bury it and sees none of them).
+          double sum = 0;
+          for (std::size_t a = 0; a < around.size(); ++a) {
+            const Element& e = mesh.elements[around[a]];
+            double mean = 0;
+            for (const Vec3& q : points[a]) mean += form_factor(mesh, ej, q, e.normal);
+            sum += e.area * mean / double(points[a].size());
+          }
+          if (sum > 0) {
+            terms.push_back({j, sum / open_area});
+            covered += sum / open_area;
+          }
+        }
+        if (covered > kMaxCovered) terms.clear();
+        covered_[v] = terms.empty() ? 0 : covered;
+      },
+      stop);
   for (std::size_t v = 0; v < vertex_count; ++v) {
     first_[v] = std::uint32_t(terms_.size());
     terms_.insert(terms_.end(), per_vertex[v].begin(), per_vertex[v].end());

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "solver/scene/mesh.h"
@@ -23,8 +24,9 @@ namespace bumprad {
 class NearField {
  public:
   // `open` (per element, open_share(); empty: all open) weighs elements into vertices as
-  // vertex_radiosity() does.
-  NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open);
+  // vertex_radiosity() does. `stop` ends it early, its near sets then partial.
+  NearField(const Mesh& mesh, const RayScene& rays, std::span<const double> open,
+            std::stop_token stop = {});
 
   struct Term {
     std::uint32_t element;    // of another surface, facing the vertex's elements

@@ -122,7 +122,8 @@ void PerturbedMap::gather(const std::vector<Material>& materials, std::span<cons
 }
 
 void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const Vec3& origin,
-                         const Rgb& power, std::span<const VisibleElement> used) {
+                         const Rgb& power, std::span<const VisibleElement> used,
+                         std::stop_token stop) {
   if (slot_element_.empty()) return;
   const DeltaFormFactors& df = hemicube.deltas();
   const std::size_t n = basis_.size();
@@ -132,6 +133,10 @@ void PerturbedMap::shoot(const Hemicube& hemicube, const Frame& shooter, const V
   // (the clamped cosine is MapBasis::project); the last entry sums F_ji. The hemi-cube
   // lists the pixels of perturbed elements (Hemicube::watch).
   for (std::uint32_t p : hemicube.watched_pixels()) {
+    if (stop.stop_requested()) {
+      std::fill(scratch_.begin(), scratch_.end(), 0.0);
+      return;
+    }
     std::int32_t es = element_slot_[ids[p] - 1];
     double* acc = &scratch_[std::size_t(es) * (n + 1)];
     Vec3 to_shooter = -glm::normalize(shooter.to_world(glm::dvec3(df.direction(p))));

@@ -57,9 +57,9 @@ class PerturbedMap {
   // near-field corrections; F'' is scaled by the same ratio per element. An element the
   // solver lit but the hemi-cube missed (ray-cast form factors, the aliasing fallback) is
   // lit as by one ray from the shooter's `origin`. The hemi-cube must watch
-  // perturbed_elements().
+  // perturbed_elements(). `stop` ends it within its pixels, adding nothing of the shot.
   void shoot(const Hemicube& hemicube, const Frame& shooter, const Vec3& origin, const Rgb& power,
-             std::span<const VisibleElement> used);
+             std::span<const VisibleElement> used, std::stop_token stop = {});
   // Power arriving at a perturbed element along one direction (`to_source`, world, unit),
   // as specular transfer delivers it (paper section 2.4: texture lit by reflections).
   // Ignored for elements without the map.

@@ -94,7 +94,7 @@ bool ProgressiveSolver::shoot(std::stop_token stop) {
   if (!shooting.sources.empty()) {
     auto t2 = Clock::now();
     const SpecularTransfer::Result reflected = specular_.transfer(
-        shooting.patch, shot.origin, frame, hemicube_, shooting.sources, map_, exact);
+        shooting.patch, shot.origin, frame, hemicube_, shooting.sources, map_, exact, stop);
     residuals_.deliver(shooting.patch, reflected.arrivals, reflected.escaped);
     specular_s = seconds_since(t2);
   }
@@ -105,9 +105,10 @@ bool ProgressiveSolver::shoot(std::stop_token stop) {
     auto t1 = Clock::now();
     // With exact direct light the map holds the indirect light only.
     map_->shoot(hemicube_, frame, shot.origin,
-                exact ? shooting.power - shooting.emission : shooting.power, visible);
+                exact ? shooting.power - shooting.emission : shooting.power, visible, stop);
     texture_s = seconds_since(t1);
   }
+  if (stop.stop_requested()) return false;
   last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
                 specular_s, seconds_since(t0)};
   total_.render_s += last_shot_.render_s;

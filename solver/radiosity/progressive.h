@@ -46,8 +46,8 @@ class ProgressiveSolver {
 
   // One shot from the patch with the largest unshot power in magnitude (negative: shot
   // ahead). False if nothing was left to shoot, or if `stop` ended it: its loops (near
-  // field, aliasing rays) check it, and a stopped shot's power is lost, so the solver is
-  // then good for its statistics only.
+  // field, aliasing rays, specular transfer, the map's shoot) check it, and a stopped
+  // shot's power is lost, so the solver is then good for its statistics only.
   bool shoot(std::stop_token stop = {});
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;

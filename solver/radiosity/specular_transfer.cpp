@@ -99,20 +99,22 @@ void SpecularTransfer::reflect(Pass& pass, std::uint32_t p, const Rgb& power, co
 SpecularTransfer::Result SpecularTransfer::transfer(std::uint32_t pi, const Vec3& origin,
                                                     const Frame& frame, const Hemicube& hemicube,
                                                     std::span<const Queued> sources,
-                                                    PerturbedMap* map, bool exact) {
+                                                    PerturbedMap* map, bool exact,
+                                                    std::stop_token stop) {
   const DeltaFormFactors& d = hemicube.deltas();
   const Patch& shooter = mesh_.patches[pi];
   Pass pass{d, hemicube.item_buffer(), frame, map, exact, shininess_[shooter.first], {}, {}, {}};
   for (std::uint32_t e = shooter.first; e < shooter.first + shooter.count; ++e)
     pass.normals.push_back(frame.to_local(mesh_.elements[e].normal));
   const auto pixels = source_pixels(pass.ids, sources);
-  for (std::size_t k = 0; k < sources.size(); ++k) {
+  for (std::size_t k = 0; k < sources.size() && !stop.stop_requested(); ++k) {
     const Queued& s = sources[k];
     double f = 0;
     for (std::uint32_t p : pixels[k]) f += d.dF(p);
     if (f > 0) {
       const int count = std::max(1, kLobe / int(std::min<std::size_t>(pixels[k].size(), kLobe)));
       for (std::size_t j = 0; j < pixels[k].size(); ++j) {  // H_p of eq. 5
+        if (stop.stop_requested()) break;
         const std::uint32_t p = pixels[k][j];
         reflect(pass, p, s.power * (d.dF(p) / f), s.emission * (d.dF(p) / f), count,
                 int(j % kLobe) * count);

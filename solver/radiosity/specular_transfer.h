@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "solver/radiosity/residuals.h"
@@ -29,10 +30,11 @@ class SpecularTransfer {
   };
   // The queued power of `sources` reflected by patch `patch`, its hemi-cube rendered from
   // `origin` in `frame`. Rays also go into `map` when there is one, without the emitters'
-  // images when `exact` (exact direct light: the view pass computes that light).
+  // images when `exact` (exact direct light: the view pass computes that light). `stop`
+  // ends it between sources and within a source's pixels; what it returns then is partial.
   Result transfer(std::uint32_t patch, const Vec3& origin, const Frame& frame,
                   const Hemicube& hemicube, std::span<const Queued> sources, PerturbedMap* map,
-                  bool exact);
+                  bool exact, std::stop_token stop = {});
 
  private:
   static constexpr int kLobe = 32;  // lobe samples per incoming direction

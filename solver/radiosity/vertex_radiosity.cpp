@@ -7,6 +7,7 @@
 
 #include "solver/scene/geometry.h"
 #include "solver/util/frame.h"
+#include "solver/util/parallel.h"
 
 namespace bumprad {
 
@@ -33,7 +34,7 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
   return sum;
 }
 
-std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
+std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop) {
   const double epsilon = ray_epsilon(mesh);
   // A point on a non-planar quad may lie a little behind the two triangles Embree makes of
   // it: a ray that meets its own element first passes on from there.
@@ -59,31 +60,35 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays) {
     return false;
   };
   std::vector<double> out(mesh.elements.size(), 1.0);
-  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
-    const Element& e = mesh.elements[i];
-    int open = 0;
-    for (const Vec3& point : quarter_points(mesh, e)) open += is_open(std::uint32_t(i), point);
-    if (open == 0 || open == 4) {
-      out[i] = open / 4.0;
-      continue;
-    }
-    // Partly buried: the share divides the element's radiosity (view_pass.cpp), so measure
-    // it on a finer 8 x 8 grid (triangles: the points that fall inside).
-    int inside = 0;
-    open = 0;
-    for (int a = 0; a < 8; ++a)
-      for (int b = 0; b < 8; ++b) {
-        const double u = (a + 0.5) / 8, v = (b + 0.5) / 8;
-        if (e.vertex_count == 3 && u + v > 1) continue;
-        std::array<double, 4> w = corner_weights(e, u, v);
-        Vec3 point(0);
-        for (int k = 0; k < e.vertex_count; ++k)
-          point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
-        ++inside;
-        open += is_open(std::uint32_t(i), point);
-      }
-    out[i] = std::max(1, open) / double(inside);
-  }
+  parallel_for(
+      int(mesh.elements.size()),
+      [&](int index) {
+        const std::size_t i = std::size_t(index);
+        const Element& e = mesh.elements[i];
+        int open = 0;
+        for (const Vec3& point : quarter_points(mesh, e)) open += is_open(std::uint32_t(i), point);
+        if (open == 0 || open == 4) {
+          out[i] = open / 4.0;
+          return;
+        }
+        // Partly buried: the share divides the element's radiosity (view_pass.cpp), so measure
+        // it on a finer 8 x 8 grid (triangles: the points that fall inside).
+        int inside = 0;
+        open = 0;
+        for (int a = 0; a < 8; ++a)
+          for (int b = 0; b < 8; ++b) {
+            const double u = (a + 0.5) / 8, v = (b + 0.5) / 8;
+            if (e.vertex_count == 3 && u + v > 1) continue;
+            std::array<double, 4> w = corner_weights(e, u, v);
+            Vec3 point(0);
+            for (int k = 0; k < e.vertex_count; ++k)
+              point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+            ++inside;
+            open += is_open(std::uint32_t(i), point);
+          }
+        out[i] = std::max(1, open) / double(inside);
+      },
+      stop);
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include "solver/scene/mesh.h"
@@ -23,8 +24,8 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
 // parts get no light; averaged into a vertex they would darken the open elements beside
 // them (at the Cornell box's block bases, 6 % too dark). Four points per element; a point
 // is buried when rays along its normal and tilted 60 degrees four ways all meet back faces
-// (the inside of a closed object) first.
-std::vector<double> open_share(const Mesh& mesh, const RayScene& rays);
+// (the inside of a closed object) first. `stop` ends it early, its shares then partial.
+std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop = {});
 
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
 

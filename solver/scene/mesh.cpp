@@ -164,8 +164,16 @@ struct WeldInfo {
 // (sphere poles, cylinder seams, shared triangle-mesh edges) so that the surface is smooth.
 class SurfaceBuilder {
  public:
-  SurfaceBuilder(Mesh& mesh, const Object& object, std::uint32_t object_index, double weld_tol)
-      : mesh_(mesh), object_(object), object_index_(object_index), weld_tol_(weld_tol) {}
+  // After `stop`, every step returns at once and the mesh is left partial.
+  SurfaceBuilder(Mesh& mesh, const Object& object, std::uint32_t object_index, double weld_tol,
+                 std::stop_token stop)
+      : mesh_(mesh),
+        object_(object),
+        object_index_(object_index),
+        weld_tol_(weld_tol),
+        stop_(std::move(stop)) {}
+
+  bool stopped() const { return stop_.stop_requested(); }
 
   void begin_surface() {
     surface_ = mesh_.surface_count++;
@@ -192,6 +200,7 @@ class SurfaceBuilder {
     std::sort(order.begin(), order.end(),
               [&](auto a, auto b) { return vs[a].position.x < vs[b].position.x; });
     for (std::uint32_t i = 0; i < n; ++i) {
+      if (stopped()) return;
       std::uint32_t a = order[i];
       if (remap_[a - first_vertex_] != a) continue;
       for (std::uint32_t j = i + 1; j < n; ++j) {
@@ -293,6 +302,7 @@ class SurfaceBuilder {
   // that both are contiguous; patches may span surfaces (a faceted mesh's triangles).
   void flush() {
     for (auto& elems : pending_) {
+      if (stopped()) break;
       if (elems.empty()) continue;
       std::stable_sort(elems.begin(), elems.end(),
                        [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -328,6 +338,7 @@ class SurfaceBuilder {
   const Object& object_;
   std::uint32_t object_index_;
   double weld_tol_;
+  std::stop_token stop_;
   std::uint32_t surface_ = 0;
   std::uint32_t first_vertex_ = 0;
   std::uint64_t own_groups_ = 0;
@@ -347,6 +358,7 @@ void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
   std::vector<std::uint32_t> ids;
   ids.reserve(std::size_t(g.nu + 1) * std::size_t(g.nv + 1));
   for (int j = 0; j <= g.nv; ++j) {
+    if (sb.stopped()) return;
     for (int i = 0; i <= g.nu; ++i) {
       double u = double(i) / g.nu, v = double(j) / g.nv;
       double u0 = std::max(0.0, u - h), u1 = std::min(1.0, u + h);
@@ -359,6 +371,7 @@ void mesh_grid(SurfaceBuilder& sb, const Grid& g, int k) {
   sb.weld();
   auto at = [&](int i, int j) { return ids[std::size_t(j) * std::size_t(g.nu + 1) + i]; };
   for (int pv = 0; pv * k < g.nv; ++pv) {
+    if (sb.stopped()) return;
     for (int pu = 0; pu * k < g.nu; ++pu) {
       std::uint32_t patch = sb.patch_for(patch_key(pu, pv));
       for (int j = pv * k; j < std::min(g.nv, (pv + 1) * k); ++j)
@@ -497,11 +510,18 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
   if (m.smooth) {
     sb.begin_surface();
     std::vector<TriangleGrid> grids;
-    for (const auto& t : m.triangles) grids.push_back(add_grid(t));
+    for (const auto& t : m.triangles) {
+      if (sb.stopped()) return;
+      grids.push_back(add_grid(t));
+    }
     sb.weld(!m.uvs.empty(), !m.normals.empty());
-    for (std::size_t t = 0; t < grids.size(); ++t) emit(t, grids[t]);
+    for (std::size_t t = 0; t < grids.size(); ++t) {
+      if (sb.stopped()) return;
+      emit(t, grids[t]);
+    }
   } else {
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      if (sb.stopped()) return;
       sb.begin_surface();
       emit(t, add_grid(m.triangles[t]));
     }
@@ -584,22 +604,23 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
   return total;
 }
 
-Mesh build_mesh(const Scene& scene) {
+Mesh build_mesh(const Scene& scene, std::stop_token stop) {
   Mesh mesh;
   double size = default_element_size(scene);
   const double patch_size = sixteenth_of_diagonal(scene);
   double weld_tol = size * 1e-6;
-  for (std::uint32_t oi = 0; oi < scene.objects.size(); ++oi) {
+  for (std::uint32_t oi = 0; oi < scene.objects.size() && !stop.stop_requested(); ++oi) {
     const Object& object = scene.objects[oi];
     const double object_size = object.density.element_size > 0 ? object.density.element_size : size;
     const int k = patch_elements(scene, object, object_size, patch_size);
-    SurfaceBuilder sb(mesh, object, oi, weld_tol);
+    SurfaceBuilder sb(mesh, object, oi, weld_tol, stop);
     if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
       mesh_triangles(sb, *m, object.density, object_size, k);
     } else {
       for (const Grid& g : grids_for(object, size)) mesh_grid(sb, g, k);
     }
   }
+  if (stop.stop_requested()) return mesh;
 
   // Vertex normals: area-weighted element normals; bounds from the vertices in use.
   mesh.bounds_min = Vec3(std::numeric_limits<double>::max());

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <stop_token>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -73,6 +74,8 @@ double default_element_size(const Scene& scene);
 // poles only removes), so that oversized scenes are refused before memory is spent.
 std::size_t estimate_element_count(const Object& object, double default_size);
 
-Mesh build_mesh(const Scene& scene);
+// `stop` ends it between objects and between a mesh's triangles; the mesh is then partial,
+// good for nothing but to be thrown away.
+Mesh build_mesh(const Scene& scene, std::stop_token stop = {});
 
 }  // namespace bumprad
