@@ -20,6 +20,12 @@ constexpr double kShotFixed_s = 1e-4;
 constexpr double kPerHemicubePixel_s = 2e-8;  // per R^2
 constexpr double kPerElement_s = 1.5e-6;      // per element per shot
 constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value, per shot
+// Before the first shot (mesh, weld, groups, rays, open shares, near sets) and before the
+// view pass's first pixel (vertex values, the near field's shading): per element, once.
+// bumprad-bench-scale's room family took 2.6e-5 s and 2.2e-5 s an element at 10k to 1M
+// triangles (README); two quads of a million elements in all took 8.5 s to set up.
+constexpr double kSetupPerElement_s = 3e-5;
+constexpr double kViewPerElement_s = 2.5e-5;
 // The view pass: 512^2 pixels at 2x2 antialiasing take 0.11 s (1e-7 s a camera ray); a
 // glossy surface sends glossy_samples more rays, a mirror up to max_depth more.
 constexpr double kPerRay_s = 1e-7;
@@ -63,8 +69,12 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   const int m = adaptive_antialias(c);
   const double samples = double(c.width) * c.height *
                          (c.antialias * c.antialias + (m > c.antialias ? m * m / 4.0 : 0));
+  double elements = 0;
+  for (const Object& o : scene.objects)
+    elements += double(estimate_element_count(o, default_element_size(scene)));
   CostEstimate e;
-  e.render_s = samples * rays_per_sample * per_hit_s;
+  e.render_setup_s = elements * kViewPerElement_s;
+  e.render_s = samples * rays_per_sample * per_hit_s + e.render_setup_s;
   e.render_terms =
       count(c.width) + "x" + count(c.height) + " pixels, " + count(c.antialias * c.antialias) +
       " rays a pixel" + (m > c.antialias ? " (" + count(m * m) + " where they disagree)" : "") +
@@ -94,12 +104,14 @@ CostEstimate estimate_cost(const Scene& scene) {
   for (int level = 0; level <= s.adaptive_levels; ++level) {
     const double scale = std::min(double(1 << (2 * level)), Limits::kMaxElements / elements);
     const double n = elements * std::max(1.0, scale), nb = bumpy * std::max(1.0, scale);
+    e.setup_s += kSetupPerElement_s * n;
     double shot_s = hemicube_s + kPerElement_s * n;
     if (s.texture == TextureMode::Shoot) shot_s += kPerMapValue_s * nb * map_values;
     e.solve_s += s.max_shots * shot_s;
     if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
+  e.solve_s += e.setup_s;
   // solver.tolerance: a round of error estimation (1,024 pixels x 1,024 paths of about ten
   // rays, and a view of at most 256 x 128 at 4 x 4 rays) each time the unshot target falls
   // to a third, down to 1e-4.
