@@ -20,10 +20,11 @@ constexpr double kShotFixed_s = 1e-4;
 constexpr double kPerHemicubePixel_s = 2e-8;  // per R^2
 constexpr double kPerElement_s = 1.5e-6;      // per element per shot
 constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value, per shot
-// Before the first shot (mesh, weld, groups, rays, open shares, near sets) and before the
-// view pass's first pixel (vertex values, the near field's shading): per element, once.
-// bumprad-bench-scale's room family took 2.6e-5 s and 2.2e-5 s an element at 10k to 1M
-// triangles (README); two quads of a million elements in all took 8.5 s to set up.
+// Per element, once: the set-up before the first shot (mesh, weld, groups, rays, open
+// shares, near sets), and the view pass's part that grows with the mesh (vertex values, the
+// near field's shading, rays into a larger scene) at the same pixel count. The room family
+// of bumprad-bench-scale took 2.6e-5 s and 2.2e-5 s an element from 10k to 1M triangles at
+// 256 x 256 (README); two quads of a million elements in all took 8.5 s to set up.
 constexpr double kSetupPerElement_s = 3e-5;
 constexpr double kViewPerElement_s = 2.5e-5;
 // The view pass: 512^2 pixels at 2x2 antialiasing take 0.11 s (1e-7 s a camera ray); a
@@ -73,8 +74,8 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   for (const Object& o : scene.objects)
     elements += double(estimate_element_count(o, default_element_size(scene)));
   CostEstimate e;
-  e.render_setup_s = elements * kViewPerElement_s;
-  e.render_s = samples * rays_per_sample * per_hit_s + e.render_setup_s;
+  e.render_mesh_s = elements * kViewPerElement_s;
+  e.render_s = samples * rays_per_sample * per_hit_s + e.render_mesh_s;
   e.render_terms =
       count(c.width) + "x" + count(c.height) + " pixels, " + count(c.antialias * c.antialias) +
       " rays a pixel" + (m > c.antialias ? " (" + count(m * m) + " where they disagree)" : "") +

@@ -10,11 +10,11 @@
 namespace bumprad {
 
 struct CostEstimate {
-  double solve_s = 0;         // the set-up, every shot at max_shots, every adaptive level, the
-                              // gather, and the error estimates of a tolerance
-  double setup_s = 0;         // of which the set-up: meshing, rays, open shares, near sets
-  double render_s = 0;        // one full-quality view pass of the scene's camera, its set-up too
-  double render_setup_s = 0;  // of which the set-up: vertex values, near-field shading
+  double solve_s = 0;        // the set-up, every shot at max_shots, every adaptive level, the
+                             // gather, and the error estimates of a tolerance
+  double setup_s = 0;        // of which the set-up: meshing, rays, open shares, near sets
+  double render_s = 0;       // one full-quality view pass of the scene's camera
+  double render_mesh_s = 0;  // of which what grows with the mesh, not the pixels
   std::string solve_terms, render_terms;  // the counts behind each, for messages
 };
 

@@ -37,8 +37,8 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
   more.camera.width *= 2;
   more.camera.antialias *= 2;
   const CostEstimate wider = estimate_render_cost(more);
-  EXPECT_EQ(wider.render_setup_s, base.render_setup_s);
-  EXPECT_NEAR(wider.render_s - wider.render_setup_s, 8 * (base.render_s - base.render_setup_s),
+  EXPECT_EQ(wider.render_mesh_s, base.render_mesh_s);
+  EXPECT_NEAR(wider.render_s - wider.render_mesh_s, 8 * (base.render_s - base.render_mesh_s),
               1e-9 * base.render_s);
   EXPECT_EQ(estimate_cost(more).solve_s, base.solve_s);
   more = s;
@@ -75,7 +75,7 @@ TEST(Cost, AMillionElementsAreEstimatedAboveWhatTheirSetUpTakes) {
   const CostEstimate e = estimate_cost(s);
   EXPECT_GT(e.solve_s, 8.5) << e.solve_terms;
   EXPECT_GT(e.setup_s, 0.5 * e.solve_s) << "most of it is set-up";
-  EXPECT_GT(e.render_setup_s, 0.5 * e.render_s) << "a 16 x 16 image of a million elements";
+  EXPECT_GT(e.render_mesh_s, 0.5 * e.render_s) << "a 16 x 16 image of a million elements";
 }
 
 // The requests of the hostile-input report: hours, not minutes.
