@@ -116,6 +116,22 @@ std::string small_scene_json(int max_shots, bool endless) {
   return scene.dump();
 }
 
+std::string facing_quads_json(int elements, int patch_elements) {
+  json mesh = {{"elements", elements}};
+  if (patch_elements > 0) mesh["patch_elements"] = patch_elements;
+  json scene = json::parse(R"({
+    "camera": {"position": [0, 0.5, 3], "look_at": [0, 0.5, 0], "width": 16, "height": 16},
+    "materials": {"lamp": {"emission": 10}, "white": {"reflectance": 0.8}},
+    "objects": [
+      {"type": "quad", "material": "lamp",
+       "vertices": [[-0.5, 0.6, -0.5], [0.5, 0.6, -0.5], [0.5, 0.6, 0.5], [-0.5, 0.6, 0.5]]},
+      {"type": "quad", "material": "white",
+       "vertices": [[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]]}],
+    "solver": {"max_shots": 2}})");
+  for (json& o : scene["objects"]) o["mesh"] = mesh;
+  return scene.dump();
+}
+
 std::string small_job_json(int max_shots, int preview_every, bool endless) {
   return json{{"scene", json::parse(small_scene_json(max_shots, endless))},
               {"preview_every", preview_every}}

@@ -45,6 +45,10 @@ class ServerProcess {
 // `endless` does not converge (unshot fraction 0) and takes about a minute (300,000 shots;
 // a million would be over the server's default cost limit): a job to cancel or kill.
 std::string small_scene_json(int max_shots, bool endless = false);
+// A lamp 1 m square 10 cm over a white floor of the same size, each `elements` x
+// `elements` (in patches of `patch_elements` a side, where given), two shots: slow by
+// construction when large (a long near field, or a long set-up), whatever the machine.
+std::string facing_quads_json(int elements, int patch_elements = 0);
 // {"scene": small_scene_json(...), ...extra request keys}
 std::string small_job_json(int max_shots, int preview_every, bool endless = false);
 

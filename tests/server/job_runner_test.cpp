@@ -82,6 +82,20 @@ TEST(JobRunner, PastItsTimeLimitAJobFailsAndSaysWhy) {
   EXPECT_FALSE(r.store.read(failed.id, Artifact::Png));
 }
 
+// Runs the job `scene` on `r`, whose time limit it overruns, and returns how long it ran.
+double seconds_until_it_fails(Runner& r, const std::string& scene) {
+  const Claim claim = r.queue(scene);
+  std::atomic<StopReason> reason{StopReason::None};
+  const auto t = std::chrono::steady_clock::now();
+  r.runner.run("worker-1", claim, {}, reason);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  std::printf("the job ran %.2f s\n", seconds);
+  const JobRecord failed = *r.store.find(claim.record.id);
+  EXPECT_EQ(failed.state, JobState::Failed) << failed.error;
+  return seconds;
+}
+
 // Before: nothing inside a shot checked for a stop, and one whose near field is long (a
 // 1 m lamp 10 cm over a floor, 128 x 128 elements each in 64 x 64-element patches: every
 // floor element a near receiver of 4 x 64 x 64 points) ran many seconds past the limit.
@@ -89,23 +103,8 @@ TEST(JobRunner, PastItsTimeLimitAJobFailsAndSaysWhy) {
 // shot (measured: 0.02 s past; 5.7 s in all without the checks, on the 2-core machine).
 TEST(JobRunner, AJobStopsAtItsTimeLimitInsideALongShot) {
   Runner r("runner-near-field", 0.5);
-  const Claim claim = r.queue(R"({
-    "camera": {"position": [0, 0.5, 3], "look_at": [0, 0.5, 0], "width": 16, "height": 16},
-    "materials": {"lamp": {"emission": 10}, "white": {"reflectance": 0.8}},
-    "objects": [
-      {"type": "quad", "material": "lamp", "mesh": {"elements": 128, "patch_elements": 64},
-       "vertices": [[-0.5, 0.6, -0.5], [0.5, 0.6, -0.5], [0.5, 0.6, 0.5], [-0.5, 0.6, 0.5]]},
-      {"type": "quad", "material": "white", "mesh": {"elements": 128, "patch_elements": 64},
-       "vertices": [[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]]}],
-    "solver": {"max_shots": 2}})");
-  std::atomic<StopReason> reason{StopReason::None};
-  const auto t = std::chrono::steady_clock::now();
-  r.runner.run("worker-1", claim, {}, reason);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  const JobRecord failed = *r.store.find(claim.record.id);
-  EXPECT_EQ(failed.state, JobState::Failed) << failed.error;
-  EXPECT_LT(seconds, 2.5) << "a shot held the stop";
+  EXPECT_LT(seconds_until_it_fails(r, test::facing_quads_json(128, 64)), 2.5)
+      << "a shot held the stop";
 }
 
 // A million elements (two facing quads of 700 x 700) take seconds to mesh, to find their
@@ -114,24 +113,8 @@ TEST(JobRunner, AJobStopsAtItsTimeLimitInsideALongShot) {
 // without the checks, on the 2-core machine).
 TEST(JobRunner, AJobStopsAtItsTimeLimitWhileItsMeshIsBuilt) {
   Runner r("runner-set-up", 0.5);
-  const Claim claim = r.queue(R"({
-    "camera": {"position": [0, 0.5, 3], "look_at": [0, 0.5, 0], "width": 16, "height": 16},
-    "materials": {"lamp": {"emission": 10}, "white": {"reflectance": 0.8}},
-    "objects": [
-      {"type": "quad", "material": "lamp", "mesh": {"elements": 700},
-       "vertices": [[-0.5, 0.6, -0.5], [0.5, 0.6, -0.5], [0.5, 0.6, 0.5], [-0.5, 0.6, 0.5]]},
-      {"type": "quad", "material": "white", "mesh": {"elements": 700},
-       "vertices": [[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]]}],
-    "solver": {"max_shots": 2}})");
-  std::atomic<StopReason> reason{StopReason::None};
-  const auto t = std::chrono::steady_clock::now();
-  r.runner.run("worker-1", claim, {}, reason);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  std::printf("stopped after %.2f s\n", seconds);
-  const JobRecord failed = *r.store.find(claim.record.id);
-  EXPECT_EQ(failed.state, JobState::Failed) << failed.error;
-  EXPECT_LT(seconds, 2.5) << "the set-up held the stop";
+  EXPECT_LT(seconds_until_it_fails(r, test::facing_quads_json(700)), 2.5)
+      << "the set-up held the stop";
 }
 
 TEST(JobRunner, ACancelInTheStoreEndsTheJobCancelled) {

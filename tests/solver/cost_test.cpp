@@ -63,15 +63,7 @@ TEST(Cost, BuiltInScenesAreEstimatedAboveWhatTheyTakeAndWellInsideTheLimit) {
 // shoot on the 2-core machine before the set-up could stop (job_runner_test's
 // AJobStopsAtItsTimeLimitWhileItsMeshIsBuilt); without a set-up term the model said 2.9 s.
 TEST(Cost, AMillionElementsAreEstimatedAboveWhatTheirSetUpTakes) {
-  Scene s = parse_scene(std::string_view(R"({
-    "camera": {"position": [0, 0.5, 3], "look_at": [0, 0.5, 0], "width": 16, "height": 16},
-    "materials": {"lamp": {"emission": 10}, "white": {"reflectance": 0.8}},
-    "objects": [
-      {"type": "quad", "material": "lamp", "mesh": {"elements": 700},
-       "vertices": [[-0.5, 0.6, -0.5], [0.5, 0.6, -0.5], [0.5, 0.6, 0.5], [-0.5, 0.6, 0.5]]},
-      {"type": "quad", "material": "white", "mesh": {"elements": 700},
-       "vertices": [[-0.5, 0.5, -0.5], [-0.5, 0.5, 0.5], [0.5, 0.5, 0.5], [0.5, 0.5, -0.5]]}],
-    "solver": {"max_shots": 2}})"));
+  const Scene s = parse_scene(std::string_view(test::facing_quads_json(700)));
   const CostEstimate e = estimate_cost(s);
   EXPECT_GT(e.solve_s, 8.5) << e.solve_terms;
   EXPECT_GT(e.setup_s, 0.5 * e.solve_s) << "most of it is set-up";
