@@ -253,8 +253,17 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
   EXPECT_LT(worst, 0.2);
 }
 
-// One shot of a scene whose floor glows: material 1 (the floors' last argument to
-// test::quad) emits 1 with reflectance `rho`; patches shoot from their open parts.
+// The floor the glowing-floor tests shoot from: 2 x 1 in z = 0, facing up, of nu x nv
+// elements of material 1, all one patch.
+Object glowing_floor(int nu, int nv) {
+  Object floor =
+      test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, nu, nv, 1);
+  floor.density.patch_elements = nu;
+  return floor;
+}
+
+// One shot of a scene whose floor glows: material 1 (glowing_floor's) emits 1 with
+// reflectance `rho`; patches shoot from their open parts.
 struct FirstShot {
   Mesh mesh;
   std::vector<Rgb> radiosity;
@@ -280,9 +289,7 @@ FirstShot shoot_once(Scene s, double rho) {
 // reflectance. Measured: 1.11 of it (the quarter points nearest the wall's foot, where the
 // light is steepest, weigh a little heavy); nothing at all before.
 TEST(Progressive, ANearReceiverHiddenFromThePatchCentreIsLitByTheRestOfThePatch) {
-  Object floor =
-      test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 20, 10, 1);
-  floor.density.patch_elements = 20;
+  const Object floor = glowing_floor(20, 10);
   Object block;
   block.shape = BoxShape{Vec3(1.3, 0.5, 0.25), Vec3(0.2, 1, 0.5), Vec3(0)};
   Object wall =
@@ -315,8 +322,7 @@ TEST(Progressive, ANearReceiverHiddenFromThePatchCentreIsLitByTheRestOfThePatch)
 // every open point of the floor, gets nothing. Shot from the patch centre, inside the block,
 // the hemi-cube saw through the block's walls (their backs face it and are culled).
 TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
-  Object floor = test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 2, 1, 1);
-  floor.density.patch_elements = 2;
+  const Object floor = glowing_floor(2, 1);
   Object block;
   block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1.2, 1.2, 0.5), Vec3(0)};
   block.density.counts = {2, 2};
@@ -345,9 +351,7 @@ TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
 // element's rays, all hidden, took half of it away).
 TEST(Progressive, RaysFromAHalfBuriedPatchCountItsOpenHalf) {
   for (const auto& [size, height] : {std::pair{0.2, 6.0}, std::pair{0.1, 3.0}}) {
-    Object floor =
-        test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 2, 1, 1);
-    floor.density.patch_elements = 2;
+    const Object floor = glowing_floor(2, 1);
     Object block;
     block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1, 1.2, 0.5), Vec3(0)};
     block.density.counts = {2, 2};
