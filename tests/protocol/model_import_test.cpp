@@ -115,6 +115,63 @@ TEST(ModelImport, TheCornellBoxAsObjRendersLikeTheBuiltIn) {
   EXPECT_LT(error, 0.02);
 }
 
+// The unit quad in z = 0 (facing +z, uvs over [0,1]^2) as glTF buffer data, written to
+// dir/NAME.bin: its primitive's "attributes" and "indices", and the file's "buffers",
+// "bufferViews" and "accessors" members. With `tangents`, also normals (+z) and a TANGENT a
+// quarter turn from what the uvs give (+y, w = +1).
+struct QuadBuffers {
+  nlohmann::json attributes;
+  std::size_t indices = 0;
+  std::string members;  // to splice into the file's top-level object
+
+  // The mesh primitive, of material 0.
+  std::string primitive() const {
+    return nlohmann::json{{"attributes", attributes}, {"indices", indices}, {"material", 0}}.dump();
+  }
+};
+QuadBuffers unit_quad_buffers(const std::filesystem::path& dir, const std::string& name,
+                              bool tangents) {
+  struct Block {
+    std::string attribute, type;
+    std::vector<float> values;
+  };
+  std::vector<Block> blocks{{"POSITION", "VEC3", {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}},
+                            {"TEXCOORD_0", "VEC2", {0, 0, 1, 0, 1, 1, 0, 1}}};
+  if (tangents) {
+    blocks.push_back({"NORMAL", "VEC3", {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}});
+    blocks.push_back({"TANGENT", "VEC4", {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1}});
+  }
+  QuadBuffers out;
+  nlohmann::json views = nlohmann::json::array(), accessors = nlohmann::json::array();
+  std::string bytes;
+  for (const Block& b : blocks) {
+    out.attributes[b.attribute] = accessors.size();
+    views.push_back({{"buffer", 0},
+                     {"byteOffset", bytes.size()},
+                     {"byteLength", b.values.size() * sizeof(float)}});
+    nlohmann::json accessor = {
+        {"bufferView", views.size() - 1}, {"componentType", 5126}, {"count", 4}, {"type", b.type}};
+    if (b.attribute == "POSITION") accessor.update({{"min", {0, 0, 0}}, {"max", {1, 1, 0}}});
+    accessors.push_back(accessor);
+    bytes.append(reinterpret_cast<const char*>(b.values.data()), b.values.size() * sizeof(float));
+  }
+  const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
+  out.indices = accessors.size();
+  views.push_back({{"buffer", 0}, {"byteOffset", bytes.size()}, {"byteLength", sizeof indices}});
+  accessors.push_back({{"bufferView", views.size() - 1},
+                       {"componentType", 5123},
+                       {"count", 6},
+                       {"type", "SCALAR"}});
+  bytes.append(reinterpret_cast<const char*>(indices), sizeof indices);
+  std::ofstream(dir / (name + ".bin"), std::ios::binary) << bytes;
+  const std::string members = nlohmann::json{
+      {"buffers", {{{"uri", name + ".bin"}, {"byteLength", bytes.size()}}}},
+      {"bufferViews", views},
+      {"accessors", accessors}}.dump();
+  out.members = members.substr(1, members.size() - 2);
+  return out;
+}
+
 // Writes a glTF whose one quad (z = 0, facing +z, uvs over [0,1]^2) sits under a node that
 // moves it by (5, 0, 0) and mirrors x: the quad lands at x in [4, 5] and still faces +z.
 // `material` replaces its one material; `extra` adds top-level keys (textures, images);
@@ -127,35 +184,17 @@ std::filesystem::path mirrored_quad_gltf(const std::filesystem::path& dir,
                                                  "emissiveFactor": [1, 0.5, 0.25]})",
                                          const std::string& extra = "",
                                          const std::string& holder = "") {
-  const float positions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-  const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
-  const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
-  std::string bytes(reinterpret_cast<const char*>(positions), sizeof positions);
-  bytes.append(reinterpret_cast<const char*>(uvs), sizeof uvs);
-  bytes.append(reinterpret_cast<const char*>(indices), sizeof indices);
-  {
-    std::ofstream bin(dir / "quad.bin", std::ios::binary);
-    bin << bytes;
-  }
+  const QuadBuffers quad = unit_quad_buffers(dir, "quad", false);
   std::ofstream(dir / "quad.gltf") << R"({
   "asset": {"version": "2.0"},
   "scene": 0, "scenes": [{"nodes": [0]}],
   "nodes": [{"name": "holder", "translation": [5, 0, 0], "children": [1])" +
                                           holder + R"(},
             {"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
-  "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
-                                              "indices": 2, "material": 0}]}],
+  "meshes": [{"name": "quad", "primitives": [)" +
+                                          quad.primitive() + R"(]}],
   "materials": [)" + material + R"(],)" + extra +
-                                          R"(
-  "buffers": [{"uri": "quad.bin", "byteLength": 92}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                  {"buffer": 0, "byteOffset": 48, "byteLength": 32},
-                  {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]},
-                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
-                {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]
-})";
+                                          quad.members + "}";
   return dir / "quad.gltf";
 }
 
@@ -202,40 +241,17 @@ TEST(ModelImport, EmissiveStrengthMultipliesTheEmission) {
   EXPECT_NEAR(glm::length(m.emission - 12 * std::numbers::pi * Rgb(1, 0.5, 0.25)), 0, 1e-5);
 }
 
-// A unit quad in z = 0 with normals and a TANGENT a quarter turn from what its (u, v) give
-// (+y, w = +1), under a node that mirrors x.
+// The unit quad with normals and a TANGENT (unit_quad_buffers), under a node that mirrors x.
 std::filesystem::path tangent_quad_gltf(const std::filesystem::path& dir) {
-  const float positions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
-  const float normals[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
-  const float uvs[] = {0, 0, 1, 0, 1, 1, 0, 1};
-  const float tangents[] = {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1};
-  const std::uint16_t indices[] = {0, 1, 2, 0, 2, 3};
-  std::string bytes(reinterpret_cast<const char*>(positions), sizeof positions);
-  bytes.append(reinterpret_cast<const char*>(normals), sizeof normals);
-  bytes.append(reinterpret_cast<const char*>(uvs), sizeof uvs);
-  bytes.append(reinterpret_cast<const char*>(tangents), sizeof tangents);
-  bytes.append(reinterpret_cast<const char*>(indices), sizeof indices);
-  std::ofstream(dir / "tangents.bin", std::ios::binary) << bytes;
+  const QuadBuffers quad = unit_quad_buffers(dir, "tangents", true);
   std::ofstream(dir / "tangents.gltf") << R"({
   "asset": {"version": "2.0"},
   "scene": 0, "scenes": [{"nodes": [0]}],
   "nodes": [{"name": "mirror", "scale": [-1, 1, 1], "mesh": 0}],
-  "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1,
-              "TEXCOORD_0": 2, "TANGENT": 3}, "indices": 4, "material": 0}]}],
-  "materials": [{"name": "plain", "pbrMetallicRoughness": {"metallicFactor": 0}}],
-  "buffers": [{"uri": "tangents.bin", "byteLength": 204}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                  {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                  {"buffer": 0, "byteOffset": 96, "byteLength": 32},
-                  {"buffer": 0, "byteOffset": 128, "byteLength": 64},
-                  {"buffer": 0, "byteOffset": 192, "byteLength": 12}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 1, 0]},
-                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-                {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-                {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC4"},
-                {"bufferView": 4, "componentType": 5123, "count": 6, "type": "SCALAR"}]
-})";
+  "meshes": [{"name": "quad", "primitives": [)" +
+                                              quad.primitive() + R"(]}],
+  "materials": [{"name": "plain", "pbrMetallicRoughness": {"metallicFactor": 0}}],)" +
+                                              quad.members + "}";
   return dir / "tangents.gltf";
 }
 
