@@ -502,14 +502,16 @@ void transform_model(ImportedModel& model, const glm::dmat4& to_world) {
       if (!finite_within_limit(p))
         throw ModelError("object \"" + o.name + "\": the transform takes it beyond 1e12");
     }
-    for (std::size_t v = 0; v < m.tangents.size(); ++v) {
-      const Vec3 n = m.normals[v], t = Vec3(m.tangents[v]);
+    for (std::size_t v = 0; v < m.normals.size(); ++v) {
+      const Vec3 n = m.normals[v];
       const Vec3 moved = glm::length(normals * n) > 0 ? glm::normalize(normals * n) : n;
-      m.tangents[v] =
-          with_handedness(moved, linear * t, linear * (m.tangents[v].w * glm::cross(n, t)));
+      if (!m.tangents.empty()) {
+        const Vec3 t(m.tangents[v]);
+        m.tangents[v] =
+            with_handedness(moved, linear * t, linear * (m.tangents[v].w * glm::cross(n, t)));
+      }
+      m.normals[v] = moved;
     }
-    for (Vec3& n : m.normals)
-      if (glm::length(normals * n) > 0) n = glm::normalize(normals * n);
     if (mirrored)
       for (auto& t : m.triangles) std::swap(t[1], t[2]);
   }
