@@ -48,6 +48,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
  private:
   void read();
+  void on_header(beast::error_code ec);  // answers Expect: 100-continue, then read_body()
+  void read_body();
   void on_read(beast::error_code ec);
   void defer(DeferredRequest deferred);
   // Stops `stop` if the client hangs up while its request is being worked on.

@@ -39,10 +39,11 @@ void RawConnection::finish_sending() {
   ::shutdown(fd_, SHUT_WR);
 }
 
-std::string RawConnection::read_all(double seconds) {
+std::string RawConnection::read_all(double seconds, std::string_view until) {
   std::string out;
   auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   for (;;) {
+    if (!until.empty() && out.ends_with(until)) return out;
     auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
         deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) return out;

@@ -17,8 +17,9 @@ class RawConnection {
 
   void send(std::string_view bytes);  // all of them; throws if the connection breaks
   void finish_sending();              // half-close: the server reads end of stream
-  // Everything the server sends until it closes the connection or `seconds` pass.
-  std::string read_all(double seconds = 10);
+  // Everything the server sends until it closes the connection, `seconds` pass, or (when
+  // given) what it sent so far ends with `until`.
+  std::string read_all(double seconds = 10, std::string_view until = {});
 
  private:
   int fd_ = -1;

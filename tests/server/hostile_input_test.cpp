@@ -95,6 +95,32 @@ TEST(HostileInput, PipelinedRequestsAreAllAnsweredInOrder) {
   EXPECT_NE(replies[3].body.find("wrinkled-box"), std::string::npos);
 }
 
+// Before: curl, which sends `Expect: 100-continue` with any body over 1 KiB, waited a second
+// for a 100 that never came before sending each large job. A body over the limit is refused
+// from its header, before it is sent.
+TEST(HostileInput, ABodyThatWaitsForContinueGetsItOrA413) {
+  ServerProcess server(test::fresh_temp_dir("hostile"), {"--body-limit", "4K"});
+  const std::string body = R"({"builtin": "attic"})";
+  RawConnection raw(server.port());
+  raw.send("POST /v1/jobs HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: " +
+           std::to_string(body.size()) + "\r\n\r\n");
+  EXPECT_EQ(raw.read_all(5, "\r\n\r\n"), "HTTP/1.1 100 Continue\r\n\r\n");
+  raw.send(body);
+  auto replies = test::split_responses(raw.read_all(10, "}"));
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].status, 422);
+  EXPECT_NE(replies[0].body.find("unknown built-in scene"), std::string::npos);
+
+  RawConnection large(server.port());
+  large.send(
+      "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\nContent-Length: "
+      "5000\r\n\r\n");
+  auto refused = test::split_responses(large.read_all(5));
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_EQ(refused[0].status, 413);
+  EXPECT_NE(refused[0].body.find("4096 bytes"), std::string::npos);
+}
+
 // Before: HEAD got 405 with a body.
 TEST(HostileInput, HeadAnswersAsGetWithoutTheBody) {
   ServerProcess server(test::fresh_temp_dir("hostile"));
