@@ -54,8 +54,9 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
-  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open);
-  solver.shine(scene.lights, *out.rays);
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open, stop);
+  solver.shine(scene.lights, *out.rays, stop);
+  if (stop.stop_requested()) return out;
   out.stats.seconds_setup = seconds_since(t0);
   double texture_s = 0;
   if (mode == TextureMode::Shoot) solver.attach_map(out.map.get());

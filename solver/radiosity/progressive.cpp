@@ -14,11 +14,11 @@ namespace bumprad {
 
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                                      const SolverSettings& settings, const RayScene* rays,
-                                     std::span<const double> open)
+                                     std::span<const double> open, std::stop_token stop)
     : mesh_(mesh),
       settings_(settings),
       residuals_(mesh, materials, open),
-      form_factors_(make_shot_form_factors(mesh, settings, rays, residuals_.open())),
+      form_factors_(make_shot_form_factors(mesh, settings, rays, residuals_.open(), stop)),
       specular_(mesh, materials),
       hemicube_(mesh, settings.hemicube_resolution),
       rng_(settings.seed) {
@@ -30,7 +30,8 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   }
 }
 
-void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RayScene& rays) {
+void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RayScene& rays,
+                              std::stop_token stop) {
   if (lights.empty()) return;
   const double epsilon = ray_epsilon(mesh_);
   std::vector<Arrival> arrivals(mesh_.elements.size());
@@ -38,13 +39,17 @@ void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RaySc
   Rgb emitted(0), escaped(0);
   for (const PunctualLight& l : lights) {
     std::vector<Rgb> incident(mesh_.elements.size());
-    parallel_for(int(mesh_.elements.size()), [&](int i) {
-      const Element& e = mesh_.elements[std::size_t(i)];
-      Rgb irradiance(0);
-      for (const Vec3& q : quarter_points(mesh_, e))
-        irradiance += punctual_irradiance(l, q, e.normal, q + e.normal * epsilon, rays) / 4.0;
-      incident[std::size_t(i)] = irradiance * e.area;
-    });
+    parallel_for(
+        int(mesh_.elements.size()),
+        [&](int i) {
+          const Element& e = mesh_.elements[std::size_t(i)];
+          Rgb irradiance(0);
+          for (const Vec3& q : quarter_points(mesh_, e))
+            irradiance += punctual_irradiance(l, q, e.normal, q + e.normal * epsilon, rays) / 4.0;
+          incident[std::size_t(i)] = irradiance * e.area;
+        },
+        stop);
+    if (stop.stop_requested()) return;
     Rgb received(0);
     for (std::size_t i = 0; i < incident.size(); ++i) {
       arrivals[i].incident += incident[i];

@@ -32,14 +32,16 @@ class ProgressiveSolver {
   // `rays` (over the same mesh) serves ray-cast form factors and the hemi-cube's aliasing
   // fallback; without it, ray-cast settings are refused and the fallback is off. `open`
   // (per element, vertex_radiosity.h's open_share; empty: all open) keeps light from being
-  // sent ahead to buried parts, which would never receive it.
+  // sent ahead to buried parts, which would never receive it. A stop requested while it is
+  // built (or while shine() runs) leaves a solver that must not shoot: its caller returns.
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                     const SolverSettings& settings, const RayScene* rays = nullptr,
-                    std::span<const double> open = {});
+                    std::span<const double> open = {}, std::stop_token stop = {});
 
   // The punctual lights' light, before any patch shoots: per element the mean of
   // punctual_irradiance() over its four quarter points.
-  void shine(std::span<const PunctualLight> lights, const RayScene& rays);
+  void shine(std::span<const PunctualLight> lights, const RayScene& rays,
+             std::stop_token stop = {});
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.
   void attach_map(PerturbedMap* map);

@@ -197,7 +197,7 @@ std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube
 class HemicubeFormFactors : public ShotFormFactors {
  public:
   HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings, const RayScene* rays,
-                      std::span<const double> open);
+                      std::span<const double> open, std::stop_token stop);
   bool reads_hemicube() const override { return true; }
   void begin(const Shot& shot) override;
   std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
@@ -231,7 +231,7 @@ class HemicubeFormFactors : public ShotFormFactors {
     std::array<float, 4> weight{};
   };
   void find_lookouts(std::span<const double> open);
-  void blend_lookouts();
+  void blend_lookouts(std::stop_token stop);
 
   std::vector<std::uint32_t> groups_;         // the groups of more than one element
   std::vector<std::uint32_t> lookouts_;       // elements whose rays sample the groups' visibility
@@ -245,7 +245,8 @@ class HemicubeFormFactors : public ShotFormFactors {
 };
 
 HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings,
-                                         const RayScene* rays, std::span<const double> open)
+                                         const RayScene* rays, std::span<const double> open,
+                                         std::stop_token stop)
     : mesh_(mesh),
       scene_rays_(rays),
       resolution_(settings.hemicube_resolution),
@@ -256,7 +257,7 @@ HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings&
   if (!rays || !(settings.alias_pixels > 0)) return;
   rays_.emplace(mesh, *rays, open);
   find_lookouts(open);
-  blend_lookouts();
+  blend_lookouts(stop);
 }
 
 // A group's visibility is looked for from four of its elements, one per quadrant about its
@@ -309,7 +310,7 @@ void HemicubeFormFactors::find_lookouts(std::span<const double> open) {
 // groups wide: 9.3 % RMS per element with one value a group, 1.7 % blended; the tent, the
 // inverse distance and its square all came within 0.1 % of that). Its own group's lookouts
 // stand in where none lie near enough.
-void HemicubeFormFactors::blend_lookouts() {
+void HemicubeFormFactors::blend_lookouts(std::stop_token stop) {
   first_lookout_.push_back(std::uint32_t(lookouts_.size()));
   std::vector<double> sides;
   for (std::uint32_t g : groups_) sides.push_back(std::sqrt(mesh_.groups[g].area));
@@ -330,48 +331,51 @@ void HemicubeFormFactors::blend_lookouts() {
     first_blend_.push_back(std::uint32_t(blends_.size()));
     blends_.resize(blends_.size() + mesh_.groups[g].count);
   }
-  parallel_for(int(groups_.size()), [&](int k) {
-    const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
-    const double radius = 1.5 * std::sqrt(group.area);
-    // The lookouts within reach of any of the group's elements, found once a group.
-    double extent = 0;
-    for (std::uint32_t j = group.first; j < group.first + group.count; ++j)
-      extent = std::max(extent, glm::length(mesh_.elements[j].centroid - group.centroid));
-    const int reach = std::min(3, int(std::ceil((extent + radius) / cell)));
-    const glm::ivec3 c = cell_of(group.centroid);
-    std::vector<std::uint32_t> candidates;
-    for (int dx = -reach; dx <= reach; ++dx)
-      for (int dy = -reach; dy <= reach; ++dy)
-        for (int dz = -reach; dz <= reach; ++dz)
-          if (auto it = grid.find(key(c + glm::ivec3(dx, dy, dz))); it != grid.end())
-            candidates.insert(candidates.end(), it->second.begin(), it->second.end());
-    std::vector<std::pair<double, std::uint32_t>> near;
-    for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
-      const Element& e = mesh_.elements[j];
-      near.clear();
-      for (std::uint32_t l : candidates) {
-        const Element& o = mesh_.elements[lookouts_[l]];
-        const double d = glm::length(o.centroid - e.centroid);
-        if (o.surface == e.surface && glm::dot(o.normal, e.normal) > 0.5 && d < radius)
-          near.push_back({d, l});
-      }
-      Blend& b = blends_[first_blend_[std::size_t(k)] + j - group.first];
-      if (near.empty()) {
-        const std::uint32_t first = first_lookout_[std::size_t(k)];
-        for (std::uint32_t l = first; l < first_lookout_[std::size_t(k) + 1]; ++l)
-          b.lookout[l - first] = l, b.weight[l - first] = 1;
-        continue;
-      }
-      const std::size_t n = std::min<std::size_t>(near.size(), 5);
-      std::partial_sort(near.begin(), near.begin() + std::ptrdiff_t(n), near.end());
-      // A hair past the fifth, so that lookouts all as far keep a weight.
-      const double r = 1.0001 * (n == 5 ? near[4].first : radius) + 1e-12;
-      for (std::size_t i = 0; i < std::min<std::size_t>(n, 4); ++i) {
-        b.lookout[i] = near[i].second;
-        b.weight[i] = float((r - near[i].first) * (r - near[i].first) / (r * r));
-      }
-    }
-  });
+  parallel_for(
+      int(groups_.size()),
+      [&](int k) {
+        const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
+        const double radius = 1.5 * std::sqrt(group.area);
+        // The lookouts within reach of any of the group's elements, found once a group.
+        double extent = 0;
+        for (std::uint32_t j = group.first; j < group.first + group.count; ++j)
+          extent = std::max(extent, glm::length(mesh_.elements[j].centroid - group.centroid));
+        const int reach = std::min(3, int(std::ceil((extent + radius) / cell)));
+        const glm::ivec3 c = cell_of(group.centroid);
+        std::vector<std::uint32_t> candidates;
+        for (int dx = -reach; dx <= reach; ++dx)
+          for (int dy = -reach; dy <= reach; ++dy)
+            for (int dz = -reach; dz <= reach; ++dz)
+              if (auto it = grid.find(key(c + glm::ivec3(dx, dy, dz))); it != grid.end())
+                candidates.insert(candidates.end(), it->second.begin(), it->second.end());
+        std::vector<std::pair<double, std::uint32_t>> near;
+        for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
+          const Element& e = mesh_.elements[j];
+          near.clear();
+          for (std::uint32_t l : candidates) {
+            const Element& o = mesh_.elements[lookouts_[l]];
+            const double d = glm::length(o.centroid - e.centroid);
+            if (o.surface == e.surface && glm::dot(o.normal, e.normal) > 0.5 && d < radius)
+              near.push_back({d, l});
+          }
+          Blend& b = blends_[first_blend_[std::size_t(k)] + j - group.first];
+          if (near.empty()) {
+            const std::uint32_t first = first_lookout_[std::size_t(k)];
+            for (std::uint32_t l = first; l < first_lookout_[std::size_t(k) + 1]; ++l)
+              b.lookout[l - first] = l, b.weight[l - first] = 1;
+            continue;
+          }
+          const std::size_t n = std::min<std::size_t>(near.size(), 5);
+          std::partial_sort(near.begin(), near.begin() + std::ptrdiff_t(n), near.end());
+          // A hair past the fifth, so that lookouts all as far keep a weight.
+          const double r = 1.0001 * (n == 5 ? near[4].first : radius) + 1e-12;
+          for (std::size_t i = 0; i < std::min<std::size_t>(n, 4); ++i) {
+            b.lookout[i] = near[i].second;
+            b.weight[i] = float((r - near[i].first) * (r - near[i].first) / (r * r));
+          }
+        }
+      },
+      stop);
 }
 
 // Neither the aliasing receivers, the groups' rays nor their unoccluded form factors depend
@@ -596,12 +600,13 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
 std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
                                                         const SolverSettings& settings,
                                                         const RayScene* rays,
-                                                        std::span<const double> open) {
+                                                        std::span<const double> open,
+                                                        std::stop_token stop) {
   if (settings.form_factors == FormFactorMethod::RayCast) {
     if (!rays) throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
     return std::make_unique<RayCastFormFactors>(mesh, *rays, open);
   }
-  return std::make_unique<HemicubeFormFactors>(mesh, settings, rays, open);
+  return std::make_unique<HemicubeFormFactors>(mesh, settings, rays, open, stop);
 }
 
 }  // namespace bumprad

@@ -42,10 +42,12 @@ class ShotFormFactors {
 
 // The settings' method (SolverSettings::form_factors). `rays` (over the same mesh) serves
 // ray casting and the hemi-cube's aliasing fallback: ray casting needs it, the fallback is
-// off without it. `open`: per element, the share of its area open to the scene.
+// off without it. `open`: per element, the share of its area open to the scene. A `stop`
+// cuts the set-up short (the caller then does not shoot).
 std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
                                                         const SolverSettings& settings,
                                                         const RayScene* rays,
-                                                        std::span<const double> open);
+                                                        std::span<const double> open,
+                                                        std::stop_token stop = {});
 
 }  // namespace bumprad

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stop_token>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -122,6 +123,20 @@ TEST(PunctualLight, ShoneIntoTheSolveAPointLightsEachElementBySolidAngle) {
   const EnergyLedger l = solver.ledger();
   EXPECT_NEAR(l.emitted.g, 4 * std::numbers::pi * 10, 1e-9);
   EXPECT_NEAR(l.emitted.g, (l.absorbed + l.escaped + l.unshot).g, 1e-9 * l.emitted.g);
+}
+
+// A job stopped before its lights shine (a time limit, DELETE) shines nothing: on a large
+// mesh the rays to a light are as many as four an element.
+TEST(PunctualLight, AStoppedShineSendsNoLight) {
+  Scene s = point_lit_floor(16);
+  const Mesh mesh = build_mesh(s);
+  const RayScene rays(mesh);
+  std::stop_source stopped;
+  stopped.request_stop();
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, {}, stopped.get_token());
+  solver.shine(s.lights, rays, stopped.get_token());
+  EXPECT_EQ(solver.ledger().emitted.g, 0);
+  for (const Rgb& d : solver.direct()) EXPECT_EQ(d.g, 0);
 }
 
 TEST(PunctualLight, ShoneThroughAWindowTheSunLightsTheWindowsAreaOfFloor) {
