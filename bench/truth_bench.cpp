@@ -12,7 +12,9 @@
 // --noise-reference REF2.exr, the same render at another seed, its own noise is measured from
 // the two rather than estimated from the path tracer's curve (--no-path-tracer skips the
 // curve). --width W renders at W pixels across (the camera's aspect kept), to match a
-// reference of that size.
+// reference of that size. A scene with an object named "floor" also gets the floor's
+// speckle: the high-pass of bumprad's image minus the reference's (truth_metrics.h), and,
+// with --noise-reference, the reference's own taken out.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -120,15 +122,33 @@ int main(int argc, char** argv) {
       if (n * 4 == spp) at_quarter = p.surfaces;
     }
     // Two renders of the reference at different seeds differ by sqrt(2) times its noise.
-    const double noise =
-        !second.empty() ? compare(read_sized(second), reference, emitter).surfaces / std::sqrt(2.0)
-                        : at_quarter / std::sqrt(5.0);
+    const Image reseeded = second.empty() ? Image() : read_sized(second);
+    const double noise = !second.empty()
+                             ? compare(reseeded, reference, emitter).surfaces / std::sqrt(2.0)
+                             : at_quarter / std::sqrt(5.0);
     if (noise > 0)
       std::printf(
           "the reference's own noise on lit surfaces (%s): %.2f%%; bumprad with it taken out: "
           "%.2f%% off\n",
           second.empty() ? "from the path tracer's curve" : "from its second seed", 100 * noise,
           100 * without_noise(c.surfaces, noise));
+    // Speckle on the floor (the object named so, if any): bumprad's high-pass against the
+    // reference's, whose own noise the second seed measures.
+    const auto floor = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                    [](const Object& o) { return o.name == "floor"; });
+    if (floor != scene.objects.end()) {
+      const std::vector<int> objects = pixel_objects(scene, mesh, rays);
+      const int which = int(floor - scene.objects.begin());
+      const double raw = speckle(image, reference, objects, which);
+      std::printf("floor speckle (5 x 5 high-pass RMS of bumprad - reference, / mean): %.2f%%",
+                  100 * raw);
+      if (!second.empty()) {
+        const double own = speckle(reseeded, reference, objects, which) / std::sqrt(2.0);
+        std::printf("; the reference's own %.2f%%; bumprad with it taken out: %.2f%%", 100 * own,
+                    100 * without_noise(raw, own));
+      }
+      std::printf("\n");
+    }
     return 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bumprad-bench-truth: %s\n", e.what());

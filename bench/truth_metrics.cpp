@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solver/scene/camera.h"
+
 namespace bumprad {
 
 Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emitter) {
@@ -46,6 +48,45 @@ Image difference_image(const Image& a, const Image& r, const std::vector<bool>& 
       out.set(x, y, off > 0 ? Rgb(shade, 0, 0) : Rgb(0, 0, shade));
     }
   return out;
+}
+
+std::vector<int> pixel_objects(const Scene& scene, const Mesh& mesh, const RayScene& rays) {
+  const Camera& c = scene.camera;
+  const PinholeCamera pinhole(c);
+  std::vector<int> out(std::size_t(c.width) * std::size_t(c.height), -1);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      if (const auto hit = rays.intersect(pinhole.ray(x + 0.5, y + 0.5)))
+        out[std::size_t(y) * std::size_t(c.width) + std::size_t(x)] =
+            int(mesh.elements[hit->element].object);
+  return out;
+}
+
+double speckle(const Image& a, const Image& b, const std::vector<int>& objects, int object) {
+  auto difference = [&](int x, int y) {
+    const Rgb c = a.at(x, y) - b.at(x, y);
+    return c.r + c.g + c.b;
+  };
+  double squares = 0, sum = 0;
+  int count = 0;
+  for (int y = 2; y + 2 < a.height; ++y)
+    for (int x = 2; x + 2 < a.width; ++x) {
+      double mean = 0;
+      bool inside = true;
+      for (int dy = -2; dy <= 2 && inside; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          inside &=
+              objects[std::size_t(y + dy) * std::size_t(a.width) + std::size_t(x + dx)] == object;
+          mean += difference(x + dx, y + dy) / 25;
+        }
+      if (!inside) continue;
+      const double high = difference(x, y) - mean;
+      const Rgb c = b.at(x, y);
+      squares += high * high;
+      sum += c.r + c.g + c.b;
+      ++count;
+    }
+  return count > 0 && sum > 0 ? std::sqrt(squares / count) / (sum / count) : 0;
 }
 
 double without_noise(double measured, double noise) {

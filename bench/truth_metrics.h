@@ -26,6 +26,15 @@ Comparison compare(const Image& a, const Image& r, const std::vector<bool>& emit
 // error sits (shadow edges, corners, a face lit wrongly).
 Image difference_image(const Image& a, const Image& r, const std::vector<bool>& emitter);
 
+// Per pixel of scene.camera, the object its centre's camera ray meets first (-1: none).
+std::vector<int> pixel_objects(const Scene& scene, const Mesh& mesh, const RayScene& rays);
+
+// Speckle: the RMS of the high-pass (a pixel minus its 5 x 5 mean) of a's luminance minus
+// b's, over the pixels whose 5 x 5 neighbourhood all show `object`, relative to b's mean
+// luminance there. Against a converged b it is a's noise, not the detail both share (a hard
+// shadow's edge); against the same render at another seed, sqrt(2) times b's own.
+double speckle(const Image& a, const Image& b, const std::vector<int>& objects, int object);
+
 // An error measured against a noisy reference, with the reference's own noise (relative
 // RMS) taken out: independent errors add in squares.
 double without_noise(double measured, double noise);

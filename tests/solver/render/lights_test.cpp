@@ -181,8 +181,8 @@ TEST(Lights, PenumbraeAreSmooth) {
     random_error += (independent - exact) * (independent - exact);
     norm += exact * exact;
   }
-  // Measured: 0.27 against 0.38.
-  EXPECT_LT(std::sqrt(error / norm), 0.8 * std::sqrt(random_error / norm));
+  // Measured: 0.19 against 0.38 (0.27 without the penumbra's extra rays).
+  EXPECT_LT(std::sqrt(error / norm), 0.6 * std::sqrt(random_error / norm));
 }
 
 }  // namespace
