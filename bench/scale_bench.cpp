@@ -1,6 +1,7 @@
 // Scale benchmark: a family of generated scenes from 10k to 1M triangles, and per size the
 // set-up (mesh, rays, open shares, near field), the shots, the solve, the view pass, the
-// peak memory and the error against the path tracer; then a fit of solve time against
+// peak memory, the error against the path tracer, and the cost model's expected shots and
+// the measured time over its estimate (solver/cost.h); then a fit of time against
 // triangles, t ~ N^a.
 //   build/bin/bumprad-bench-scale [--family room|terrain|objects] [--sizes 10000,100000]
 //                                 [--spp N] [--references DIR] [--width W]
@@ -25,6 +26,7 @@
 #include "bench/truth_metrics.h"
 #include "common/args.h"
 #include "common/stopwatch.h"
+#include "solver/cost.h"
 #include "solver/render/path_tracer.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
@@ -194,6 +196,7 @@ struct Result {
   std::size_t triangles = 0, elements = 0;
   int shots = 0;
   double setup = 0, solve = 0, view = 0, unshot = 0, error = 0, noise = 0;
+  double estimated_shots = 0, estimated_s = 0;  // solver/cost.h, before the solve
   long peak_kb = 0;
 };
 
@@ -204,6 +207,9 @@ void measure(const std::string& family, std::size_t size, int spp, int width,
   if (width > 0) scene.camera.width = scene.camera.height = width;
   Result r;
   r.triangles = triangle_count(scene);
+  const CostEstimate cost = estimate_cost(scene);
+  r.estimated_shots = cost.shots;
+  r.estimated_s = cost.solve_s + cost.render_s;
   auto t = Clock::now();
   const Solution solution = solve(scene);
   const double wall = seconds_since(t);
@@ -237,8 +243,9 @@ void measure(const std::string& family, std::size_t size, int spp, int width,
   const std::vector<bool> emitter = emitter_pixels(scene, mesh, rays);
   r.noise = compare(quarter, reference, emitter).surfaces / std::sqrt(5.0);
   r.error = without_noise(compare(image, reference, emitter).surfaces, r.noise);
-  std::fprintf(out, "%zu %zu %d %.17g %.17g %.17g %.17g %.17g %.17g %ld\n", r.triangles, r.elements,
-               r.shots, r.setup, r.solve, r.view, r.unshot, r.error, r.noise, r.peak_kb);
+  std::fprintf(out, "%zu %zu %d %.17g %.17g %.17g %.17g %.17g %.17g %ld %.17g %.17g\n", r.triangles,
+               r.elements, r.shots, r.setup, r.solve, r.view, r.unshot, r.error, r.noise, r.peak_kb,
+               r.estimated_shots, r.estimated_s);
 }
 
 // Runs measure() in a child and reads its line back.
@@ -261,13 +268,13 @@ bool run_child(const std::string& family, std::size_t size, int spp, int width,
   }
   close(fd[1]);
   FILE* in = fdopen(fd[0], "r");
-  const int n =
-      std::fscanf(in, "%zu %zu %d %lf %lf %lf %lf %lf %lf %ld", &r.triangles, &r.elements, &r.shots,
-                  &r.setup, &r.solve, &r.view, &r.unshot, &r.error, &r.noise, &r.peak_kb);
+  const int n = std::fscanf(in, "%zu %zu %d %lf %lf %lf %lf %lf %lf %ld %lf %lf", &r.triangles,
+                            &r.elements, &r.shots, &r.setup, &r.solve, &r.view, &r.unshot, &r.error,
+                            &r.noise, &r.peak_kb, &r.estimated_shots, &r.estimated_s);
   std::fclose(in);
   int status = 0;
   waitpid(pid, &status, 0);
-  return n == 10 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return n == 12 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 }  // namespace
@@ -302,15 +309,17 @@ int main(int argc, char** argv) {
   }
   std::printf("family %s, %d x %d, reference %d samples a pixel\n", family.c_str(), width, width,
               spp);
-  std::printf("%10s %10s %6s %8s %8s %8s %8s %8s %10s %9s\n", "triangles", "elements", "shots",
-              "set-up s", "solve s", "view s", "unshot", "error", "ref noise", "peak MB");
+  std::printf("%10s %10s %6s %8s %8s %8s %8s %8s %10s %9s %9s %8s\n", "triangles", "elements",
+              "shots", "set-up s", "solve s", "view s", "unshot", "error", "ref noise", "peak MB",
+              "est shots", "meas/est");
   std::vector<Result> results;
   for (std::size_t size : sizes) {
     Result r;
     if (!run_child(family, size, spp, width, references, r)) return 1;
-    std::printf("%10zu %10zu %6d %8.2f %8.2f %8.2f %7.2f%% %7.2f%% %9.2f%% %9.0f\n", r.triangles,
-                r.elements, r.shots, r.setup, r.solve, r.view, 100 * r.unshot, 100 * r.error,
-                100 * r.noise, double(r.peak_kb) / 1024);
+    std::printf("%10zu %10zu %6d %8.2f %8.2f %8.2f %7.2f%% %7.2f%% %9.2f%% %9.0f %9.0f %8.2f\n",
+                r.triangles, r.elements, r.shots, r.setup, r.solve, r.view, 100 * r.unshot,
+                100 * r.error, 100 * r.noise, double(r.peak_kb) / 1024, r.estimated_shots,
+                (r.setup + r.solve + r.view) / r.estimated_s);
     std::fflush(stdout);
     results.push_back(r);
   }

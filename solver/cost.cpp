@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "solver/radiosity/map_basis.h"
 #include "solver/scene/camera.h"
@@ -11,15 +16,35 @@
 namespace bumprad {
 namespace {
 
-// Measured with `bumprad render` on the 2-core machine of the README (llvmpipe, Embree):
-// a hemi-cube shot of cornell costs 1.45 ms at R 150 and 7.9 ms at R 600 with 2,305
-// elements, 3.1 ms at R 150 with 8,992; at 139k elements, with most of them under a pixel
-// and ray cast instead, 266 ms. Per element the large case is taken, so small scenes are
-// over-estimated about threefold rather than large ones under-estimated.
-constexpr double kShotFixed_s = 1e-4;
+// Per shot, measured on the 2-core machine of the README (llvmpipe, Embree): cornell (2,305
+// elements, hemi-cube 150) 3.4 ms; the room family of bumprad-bench-scale 9.5 ms at 10k
+// elements, 26.5 ms at 100k, 69 ms at 300k and 225 ms at 1M, where most receivers fall
+// between hemi-cube pixels and take ray-cast form factors (grouped: one pass over them).
+constexpr double kShotFixed_s = 5e-4;
 constexpr double kPerHemicubePixel_s = 2e-8;  // per R^2
-constexpr double kPerElement_s = 1.5e-6;      // per element per shot
+constexpr double kPerElement_s = 3e-7;        // per element per shot
 constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value, per shot
+// A group of a mesh's small triangles (mesh.h) blends the visibility its lookouts' rays
+// find, four lookouts of 64 rays each a group, every shot: 7 ms a shot for the room
+// family's 266 groups, 16 ms for the objects family's 604.
+constexpr double kPerGroup_s = 2.5e-5;
+// A non-diffuse shooter's specular transfer (paper-room: 0.55 ms mean for its mirror, 1.6 ms
+// for its glossy sphere).
+constexpr double kSpecularShot_s = 1.5e-3;
+// The near field: per near receiver and point of the shooter (four an element), a polygon
+// form factor and, for receivers the hemi-cube missed, a shadow ray; two facing 1 m quads
+// 0.1 m apart in 64 x 64-element patches took 20.6 s for two shots at 96 x 96 elements
+// (9,216 receivers x 16,384 points each) and 25.1 s at 128 x 128 (16,384 x 16,384).
+constexpr double kPerNearPoint_s = 5e-8;
+// Receivers closer than this many patch sides are the near field (shot_form_factors.cpp).
+constexpr double kNearFieldSides = 3.0;
+// Shots: each takes the patch with most unshot power and sends on the share its receivers
+// reflect, so the unshot power falls about as exp(-(1 - rho) shots / P') for P patches of
+// mean reflectance rho, P' a fraction of P (the brightest shoot first). Measured: cornell
+// (632 patches, rho 0.56) 750, 894, 1,049 and 1,468 shots to 2 %, 1 %, 0.5 % and 0.1 %
+// unshot; wrinkled-box (456, 0.64) 660 to 1 %; paper-room (1,007, 0.61) 1,182 to 5 % and
+// 1,731 to 1 %. This constant puts them all within 0.85-1.15.
+constexpr double kShotsPerPatch = 0.13;
 // Per element, once: the set-up before the first shot (mesh, weld, groups, rays, open
 // shares, near sets), and the view pass's part that grows with the mesh (vertex values, the
 // near field's shading, rays into a larger scene) at the same pixel count. The room family
@@ -86,15 +111,106 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   return e;
 }
 
+namespace {
+
+// What one object brings to the solve.
+struct Part {
+  double elements = 0, patches = 0, groups = 0, side = 0, element_size = 0;
+  Vec3 lo, hi;
+  bool emitter = false, specular = false, bumpy = false, near_receiver = true, flat = false;
+  double reflectance = 0;
+};
+
+std::vector<Part> parts_of(const Scene& scene) {
+  const double size = default_element_size(scene);
+  std::vector<Part> parts;
+  for (const Object& o : scene.objects) {
+    const Material& m = scene.materials[std::size_t(o.material)];
+    const PatchEstimate p = estimate_patches(scene, o);
+    Part part;
+    part.elements = double(estimate_element_count(o, size));
+    part.patches = double(p.count);
+    part.groups = double(p.groups);
+    part.side = p.side;
+    part.element_size = o.density.element_size > 0 ? o.density.element_size : size;
+    std::tie(part.lo, part.hi) = object_bounds(o);
+    part.emitter = m.emission.r + m.emission.g + m.emission.b > 0;
+    part.specular = m.specular > 0;
+    part.bumpy = o.bump >= 0;
+    part.reflectance = (m.reflectance.r + m.reflectance.g + m.reflectance.b) / 3;
+    part.flat = std::holds_alternative<QuadShape>(o.shape);
+    // A mesh's triangles of at most one element receive in groups, outside the near field.
+    if (const auto* mesh = std::get_if<TriangleMeshShape>(&o.shape))
+      part.near_receiver = part.elements > double(mesh->triangles.size());
+    parts.push_back(part);
+  }
+  return parts;
+}
+
+// The gap between two boxes (0 where they overlap).
+double gap(const Part& a, const Part& b) {
+  const Vec3 d = glm::max(Vec3(0), glm::max(a.lo - b.hi, b.lo - a.hi));
+  return glm::length(d);
+}
+
+// The near field of one shot from `a`: its receivers (elements of other objects, and of its
+// own faces where it has several, within kNearFieldSides patch sides) times the shooter's
+// points (four an element).
+double near_field_s(const std::vector<Part>& parts, const Part& a) {
+  const double radius = kNearFieldSides * a.side, reach = a.side + 2 * radius;
+  double receivers = 0;
+  for (const Part& b : parts) {
+    if (!b.near_receiver || (&b == &a && a.flat) || gap(a, b) >= radius) continue;
+    receivers += std::min(b.elements, reach * reach / (b.element_size * b.element_size));
+  }
+  const double k = a.side / a.element_size;  // the largest patch's side, in elements
+  return receivers * 4 * std::min(a.elements, k * k) * kPerNearPoint_s;
+}
+
+}  // namespace
+
+double expected_shots(const Scene& scene) {
+  const std::vector<Part> parts = parts_of(scene);
+  double patches = 0, emitters = 0, reflected = 0;
+  for (const Part& p : parts) {
+    patches += p.patches;
+    emitters += p.emitter ? p.patches : 0;
+    reflected += p.patches * p.reflectance;
+  }
+  const SolverSettings& s = scene.solver;
+  if (patches == 0) return 0;
+  // A tolerance shoots on, the unshot target falling to a third a round, at most to 1e-4;
+  // a target of 0 is never met, and every shot is spent.
+  const double target = s.tolerance > 0 ? 1e-4 : s.unshot_fraction;
+  if (!(target > 0)) return s.max_shots;
+  const double rho = std::min(0.95, reflected / patches);
+  const double shots = kShotsPerPatch * patches * std::log(1 / std::min(target, 1.0)) / (1 - rho);
+  return std::min(double(s.max_shots), std::max(shots, emitters));
+}
+
 CostEstimate estimate_cost(const Scene& scene) {
   CostEstimate e = estimate_render_cost(scene);
   const SolverSettings& s = scene.solver;
-  const double size = default_element_size(scene);
-  double elements = 0, bumpy = 0;
-  for (const Object& o : scene.objects) {
-    const double n = double(estimate_element_count(o, size));
-    elements += n;
-    if (o.bump >= 0) bumpy += n;
+  const std::vector<Part> parts = parts_of(scene);
+  double elements = 0, bumpy = 0, patches = 0, emitter_patches = 0, groups = 0;
+  for (const Part& p : parts) {
+    elements += p.elements;
+    groups += p.groups;
+    bumpy += p.bumpy ? p.elements : 0;
+    patches += p.patches;
+    emitter_patches += p.emitter ? p.patches : 0;
+  }
+  const double shots = expected_shots(scene);
+  // The emitters' patches shoot first; the rest of the shots fall to all patches alike. Per
+  // shot, a patch's share of them times what its shots cost beyond the hemi-cube.
+  const double first = std::min(shots, emitter_patches), rest = shots - first;
+  double near_s = 0, specular_s = 0;
+  for (const Part& p : parts) {
+    const double share = (p.emitter ? first * p.patches / emitter_patches : 0) +
+                         rest * p.patches / std::max(1.0, patches);
+    if (share == 0) continue;
+    near_s += share * near_field_s(parts, p);
+    if (p.specular) specular_s += share * kSpecularShot_s;
   }
   const double map_values =
       s.texture == TextureMode::None || bumpy == 0 ? 0 : double(MapBasis(s.map).size());
@@ -106,9 +222,9 @@ CostEstimate estimate_cost(const Scene& scene) {
     const double scale = std::min(double(1 << (2 * level)), Limits::kMaxElements / elements);
     const double n = elements * std::max(1.0, scale), nb = bumpy * std::max(1.0, scale);
     e.setup_s += kSetupPerElement_s * n;
-    double shot_s = hemicube_s + kPerElement_s * n;
+    double shot_s = hemicube_s + kPerElement_s * n + kPerGroup_s * groups;
     if (s.texture == TextureMode::Shoot) shot_s += kPerMapValue_s * nb * map_values;
-    e.solve_s += s.max_shots * shot_s;
+    e.solve_s += shots * shot_s + near_s + specular_s;
     if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
@@ -125,14 +241,19 @@ CostEstimate estimate_cost(const Scene& scene) {
     view.camera.antialias = 4;
     e.solve_s += rounds * (1024.0 * 1024 * 10 * kPerRay_s + estimate_render_cost(view).render_s);
   }
-  e.solve_terms = count(elements) + " elements x " + count(s.max_shots) + " shots at hemi-cube " +
-                  count(s.hemicube_resolution) +
-                  (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
-                                         : std::string()) +
-                  (map_values > 0 ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) +
-                                        " map values"
-                                  : std::string()) +
-                  (rounds > 0 ? ", up to " + count(rounds) + " error estimates" : std::string());
+  e.shots = shots;
+  e.solve_terms =
+      count(elements) + " elements" +
+      (groups > 0 ? " (" + count(groups) + " groups)" : std::string()) + ", " + count(patches) +
+      " patches, about " + count(shots) + " shots at hemi-cube " + count(s.hemicube_resolution) +
+      (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
+                             : std::string()) +
+      (map_values > 0
+           ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) + " map values"
+           : std::string()) +
+      (near_s > 0.1 * e.solve_s ? ", a near field of about " + count(near_s) + " s"
+                                : std::string()) +
+      (rounds > 0 ? ", up to " + count(rounds) + " error estimates" : std::string());
   return e;
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <tuple>
+#include <unordered_set>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -532,28 +533,10 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
 // A sixteenth of the bounding-box diagonal of all objects: the scene's natural element size.
 double sixteenth_of_diagonal(const Scene& scene) {
   Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-  auto grow = [&](const Vec3& p, double r) {
-    lo = glm::min(lo, p - Vec3(r));
-    hi = glm::max(hi, p + Vec3(r));
-  };
   for (const Object& o : scene.objects) {
-    std::visit(
-        [&](const auto& s) {
-          using T = std::decay_t<decltype(s)>;
-          if constexpr (std::is_same_v<T, QuadShape>) {
-            for (const Vec3& p : s.corners) grow(p, 0);
-          } else if constexpr (std::is_same_v<T, BoxShape>) {
-            for (const Vec3& p : box_corners(s)) grow(p, 0);
-          } else if constexpr (std::is_same_v<T, SphereShape>) {
-            grow(s.center, s.radius);
-          } else if constexpr (std::is_same_v<T, CylinderShape>) {
-            grow(s.base, s.radius);
-            grow(s.top, s.radius);
-          } else {
-            for (const Vec3& p : s.positions) grow(p, 0);
-          }
-        },
-        o.shape);
+    const auto [olo, ohi] = object_bounds(o);
+    lo = glm::min(lo, olo);
+    hi = glm::max(hi, ohi);
   }
   double diag = scene.objects.empty() ? 1.0 : glm::length(hi - lo);
   return diag > 0 ? diag / 16 : 1.0;
@@ -582,6 +565,32 @@ double Mesh::diagonal() const {
   return glm::length(bounds_max - bounds_min);
 }
 
+std::pair<Vec3, Vec3> object_bounds(const Object& object) {
+  Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+  auto grow = [&](const Vec3& p, double r) {
+    lo = glm::min(lo, p - Vec3(r));
+    hi = glm::max(hi, p + Vec3(r));
+  };
+  std::visit(
+      [&](const auto& s) {
+        using T = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<T, QuadShape>) {
+          for (const Vec3& p : s.corners) grow(p, 0);
+        } else if constexpr (std::is_same_v<T, BoxShape>) {
+          for (const Vec3& p : box_corners(s)) grow(p, 0);
+        } else if constexpr (std::is_same_v<T, SphereShape>) {
+          grow(s.center, s.radius);
+        } else if constexpr (std::is_same_v<T, CylinderShape>) {
+          grow(s.base, s.radius);
+          grow(s.top, s.radius);
+        } else {
+          for (const Vec3& p : s.positions) grow(p, 0);
+        }
+      },
+      object.shape);
+  return {lo, hi};
+}
+
 double default_element_size(const Scene& scene) {
   return scene.solver.element_size > 0 ? scene.solver.element_size : sixteenth_of_diagonal(scene);
 }
@@ -602,6 +611,36 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
   for (const Grid& g : grids_for(object, default_size))
     total += std::size_t(g.nu) * std::size_t(g.nv);
   return total;
+}
+
+PatchEstimate estimate_patches(const Scene& scene, const Object& object) {
+  const double size = default_element_size(scene);
+  const double object_size = object.density.element_size > 0 ? object.density.element_size : size;
+  const std::size_t k =
+      std::size_t(patch_elements(scene, object, object_size, sixteenth_of_diagonal(scene)));
+  std::size_t total = 0;
+  if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
+    // Triangles of one element cluster as mesh_triangles clusters them, into patches and
+    // groups; a larger one makes patches of its own, k x k of its n x n elements each.
+    std::unordered_set<std::uint64_t> cells, groups;
+    for (const auto& t : m->triangles) {
+      if (t[0] >= m->positions.size() || t[1] >= m->positions.size() || t[2] >= m->positions.size())
+        continue;
+      const std::size_t n = std::size_t(triangle_subdivisions(*m, t, object.density, object_size));
+      const Vec3 a = m->positions[t[0]], b = m->positions[t[1]], c = m->positions[t[2]];
+      if (n == 1) {
+        const Vec3 centroid = (a + b + c) / 3.0, facing = glm::cross(b - a, c - a);
+        cells.insert(cluster_key(centroid, facing, double(k) * object_size));
+        groups.insert(cluster_key(centroid, facing, object_size));
+      } else {
+        total += std::max<std::size_t>(1, n * n / (k * k));
+      }
+    }
+    return {total + cells.size(), double(k) * object_size, groups.size()};
+  }
+  for (const Grid& g : grids_for(object, size))
+    total += ((std::size_t(g.nu) + k - 1) / k) * ((std::size_t(g.nv) + k - 1) / k);
+  return {total, double(k) * object_size, 0};
 }
 
 Mesh build_mesh(const Scene& scene, std::stop_token stop) {

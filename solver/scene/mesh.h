@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <span>
 #include <stop_token>
+#include <utility>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -66,6 +67,9 @@ struct Mesh {
   double diagonal() const;
 };
 
+// An axis-aligned box around the object (a mesh without positions: an empty one, lo > hi).
+std::pair<Vec3, Vec3> object_bounds(const Object& object);
+
 // The element size a scene uses where an object does not say: the solver setting, or a
 // sixteenth of the bounding-box diagonal of all objects.
 double default_element_size(const Scene& scene);
@@ -73,6 +77,15 @@ double default_element_size(const Scene& scene);
 // The number of elements build_mesh will make for `object` (an upper bound: welding at
 // poles only removes), so that oversized scenes are refused before memory is spent.
 std::size_t estimate_element_count(const Object& object, double default_size);
+
+// The patches (shooters) build_mesh will make for `object` of `scene`: how many, what a
+// progressive solve's shot count grows with (solver/cost.cpp), and about how wide.
+struct PatchEstimate {
+  std::size_t count = 0;
+  double side = 0;         // k element sizes, k elements a patch side
+  std::size_t groups = 0;  // of a mesh's triangles of at most one element (Mesh::groups)
+};
+PatchEstimate estimate_patches(const Scene& scene, const Object& object);
 
 // `stop` ends it between objects and between a mesh's triangles; the mesh is then partial,
 // good for nothing but to be thrown away.

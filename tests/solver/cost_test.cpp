@@ -1,12 +1,14 @@
-// The cost model that lets the server refuse work before it starts: linear in the counts
-// that drive each loop, never below what the built-in scenes measure, and far above the
-// budget for the requests that once held the server for hours.
+// The cost model that lets the server refuse work before it starts: the shots a solve is
+// expected to take, each linear in the counts that drive its loops; close to what the
+// built-in scenes take, and far above the budget for the requests that once held the server
+// for hours.
 #include "solver/cost.h"
 
 #include <gtest/gtest.h>
 
 #include "protocol/builtin_scenes.h"
 #include "protocol/scene_json.h"
+#include "solver/solution.h"
 #include "tests/test_server.h"
 
 namespace bumprad {
@@ -18,6 +20,7 @@ Scene builtin(const char* name) {
 
 TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
   Scene s = builtin("cornell");
+  s.solver.max_shots = 100;  // below the shots it expects: the cap counts
   const CostEstimate base = estimate_cost(s);
   EXPECT_GT(base.solve_s, 0);
   EXPECT_GT(base.render_s, 0);
@@ -25,8 +28,10 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
   more.solver.max_shots *= 2;
   const CostEstimate doubled = estimate_cost(more);
   EXPECT_EQ(doubled.setup_s, base.setup_s);
+  // Twice the shots, nearly twice the time: the emitters' first shots (their near field)
+  // stay as they were.
   EXPECT_NEAR(doubled.solve_s - doubled.setup_s, 2 * (base.solve_s - base.setup_s),
-              1e-9 * base.solve_s);
+              0.02 * (base.solve_s - base.setup_s));
   more = s;
   more.solver.hemicube_resolution *= 4;
   EXPECT_GT(estimate_cost(more).solve_s, base.solve_s);
@@ -49,14 +54,40 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
       << tolerant.solve_terms;  // 0.5 % down to 1e-4: 1 + ceil(log3 50)
 }
 
-// The built-in scenes solve and render in 1-3 s here (README); the estimate must not be
-// lower than that, nor so high that a default limit of 10 minutes would refuse them.
-TEST(Cost, BuiltInScenesAreEstimatedAboveWhatTheyTakeAndWellInsideTheLimit) {
+// The built-in scenes solve and render in 4-12 s here (README); the estimate must not be
+// far below that, nor so high that a default limit of 10 minutes would refuse them.
+TEST(Cost, BuiltInScenesAreEstimatedNearWhatTheyTakeAndWellInsideTheLimit) {
   for (const char* name : {"cornell", "wrinkled-box", "paper-room"}) {
     CostEstimate e = estimate_cost(builtin(name));
-    EXPECT_GT(e.solve_s + e.render_s, 1.0) << name;
+    EXPECT_GT(e.solve_s + e.render_s, 2.0) << name;
     EXPECT_LT(e.solve_s + e.render_s, 60.0) << name;
   }
+}
+
+// What the time estimate rests on, whatever the machine: the shots a solve takes to its
+// unshot target. Measured: cornell 1,049 against 984 expected, wrinkled-box 660 against
+// 682, paper-room 1,182 against 800 (its mirror's small patches reflect little diffusely);
+// so within 0.6-1.5 here.
+TEST(Cost, TheExpectedShotsAreTheShotsASolveTakes) {
+  for (const char* name : {"cornell", "wrinkled-box", "paper-room"}) {
+    const Scene scene = builtin(name);
+    const double ratio = solve(scene).stats.shots / expected_shots(scene);
+    EXPECT_GT(ratio, 0.6) << name;
+    EXPECT_LT(ratio, 1.5) << name;
+  }
+  Scene capped = builtin("cornell");
+  capped.solver.max_shots = 100;
+  EXPECT_EQ(expected_shots(capped), 100);
+}
+
+// The near field of the scale report: a 1 m lamp 0.1 m over a floor in 64 x 64-element
+// patches, 96 x 96 elements each. A shot's near field takes 4 x 64 x 64 points for each of
+// the floor's 9,216 elements; it was estimated at 0.056 s and took 20.6 s (two shots).
+TEST(Cost, ANearFieldOfFinePatchesIsCounted) {
+  const CostEstimate e =
+      estimate_cost(parse_scene(std::string_view(test::facing_quads_json(96, 64))));
+  EXPECT_GT(e.solve_s, 10.0) << e.solve_terms;
+  EXPECT_NE(e.solve_terms.find("a near field of about"), std::string::npos) << e.solve_terms;
 }
 
 // A million elements (two facing quads of 700 x 700, two shots) took 8.5 s to set up and
@@ -76,9 +107,10 @@ TEST(Cost, TheReportedHostageRequestsAreEstimatedInHours) {
   job.solver.element_size = 0.03;
   job.solver.hemicube_resolution = 1024;
   job.solver.max_shots = 1'000'000;
+  job.solver.unshot_fraction = 0;  // never met: every shot is spent
   CostEstimate e = estimate_cost(job);
   EXPECT_GT(e.solve_s, 3600) << e.solve_terms;
-  EXPECT_NE(e.solve_terms.find("x 1,000,000 shots at hemi-cube 1,024"), std::string::npos)
+  EXPECT_NE(e.solve_terms.find("about 1,000,000 shots at hemi-cube 1,024"), std::string::npos)
       << e.solve_terms;
   Scene view = builtin("paper-room");
   view.camera.width = view.camera.height = 8192;
