@@ -99,6 +99,9 @@ int main(int argc, char** argv) {
         "off\n",
         solution.stats.elements, solution.stats.shots, 100 * solution.stats.unshot_fraction,
         seconds, solution.stats.seconds_solve, 100 * c.surfaces, c.brightness, 100 * c.all);
+    if (solution.stats.estimated_error > 0)  // solver.tolerance: its own estimate, to compare
+      std::printf("  its own estimate (solver.tolerance): %.2f%% +- %.2f%%\n",
+                  100 * solution.stats.estimated_error, 100 * solution.stats.estimated_error_se);
     if (const char* out = std::getenv("BUMPRAD_TRUTH_IMAGES")) {  // for difference images
       write_image(std::string(out) + "-bumprad.exr", image, 1);
       write_image(std::string(out) + "-reference.exr", reference, 1);

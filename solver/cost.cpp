@@ -230,15 +230,14 @@ CostEstimate estimate_cost(const Scene& scene) {
   }
   e.solve_s += e.setup_s;
   // solver.tolerance: a round of error estimation (1,024 pixels x 1,024 paths of about ten
-  // rays, and a view of at most 256 x 128 at 4 x 4 rays) each time the unshot target falls
-  // to a third, down to 1e-4.
+  // rays, and a view of at most 1024 x 512 at the camera's rays) each time the unshot target
+  // falls to a third, down to 1e-4.
   double rounds = 0;
   if (s.tolerance > 0) {
     rounds = 1 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
     Scene view = scene;
-    view.camera.width = std::min(view.camera.width, 256);
-    view.camera.height = std::min(view.camera.height, 128);
-    view.camera.antialias = 4;
+    view.camera.width = std::min(view.camera.width, 1024);
+    view.camera.height = std::min(view.camera.height, 512);
     e.solve_s += rounds * (1024.0 * 1024 * 10 * kPerRay_s + estimate_render_cost(view).render_s);
   }
   e.shots = shots;

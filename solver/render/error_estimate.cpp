@@ -74,7 +74,6 @@ ErrorEstimator::ErrorEstimator(const Scene& scene, const Mesh& mesh, const RaySc
       std::min({1.0, double(settings.max_height) / c.height, 2.0 * settings.max_height / c.width});
   c.width = std::max(1, int(std::lround(c.width * scale)));
   c.height = std::max(1, int(std::lround(c.height * scale)));
-  c.antialias = 4;
   const std::vector<bool> emitter = emitter_pixels(view_, mesh, rays);
 
   std::vector<PixelIndex> lit;

@@ -1,7 +1,8 @@
 // How far a solution's image is from ground truth, estimated without a reference image: the
-// path tracer traces a random sample of the pixels of a small copy of the view (at most
-// 128 x 256), bumprad renders that view, and the relative RMS error over the sampled lit
-// pixels is taken with the path tracer's own noise (known per pixel) removed. The job's
+// path tracer traces a random sample of the pixels of the view (a copy at most 512 x 1024,
+// at the camera's own rays a pixel: an image of larger pixels or more rays is smoother and
+// its error smaller), bumprad renders that view, and the relative RMS error over the
+// sampled lit pixels is taken with the path tracer's own noise (known per pixel) removed. The job's
 // reported error and the solver's tolerance (SolverSettings::tolerance) rest on it. The
 // estimator knows images and traced pixels, not solutions: the caller renders the view.
 #pragma once
@@ -27,7 +28,7 @@ struct ErrorEstimate {
 struct ErrorEstimateSettings {
   int pixels = 1024;
   int paths = 1024;      // a pixel
-  int max_height = 128;  // the view's rows; its columns at most twice that
+  int max_height = 512;  // the view's rows; its columns at most twice that
   std::uint64_t seed = 1;
 };
 
