@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/radiosity/map_basis.h"
+#include "solver/radiosity/shot_form_factors.h"
 #include "solver/scene/camera.h"
 #include "solver/scene/mesh.h"
 
@@ -31,13 +32,12 @@ constexpr double kPerGroup_s = 2.5e-5;
 // A non-diffuse shooter's specular transfer (paper-room: 0.55 ms mean for its mirror, 1.6 ms
 // for its glossy sphere).
 constexpr double kSpecularShot_s = 1.5e-3;
-// The near field: per near receiver and point of the shooter (four an element), a polygon
-// form factor and, for receivers the hemi-cube missed, a shadow ray; two facing 1 m quads
-// 0.1 m apart in 64 x 64-element patches took 20.6 s for two shots at 96 x 96 elements
-// (9,216 receivers x 16,384 points each) and 25.1 s at 128 x 128 (16,384 x 16,384).
+// The near field: per near receiver and point of the shooter (four an element, at most
+// kNearFieldPoints), a polygon form factor and, for receivers the hemi-cube missed, a shadow
+// ray; two facing 1 m quads 0.1 m apart in 64 x 64-element patches took 20.6 s for two
+// shots at 96 x 96 elements (9,216 receivers x 16,384 points each) before the points were
+// bounded, 25.1 s at 128 x 128 (16,384 x 16,384).
 constexpr double kPerNearPoint_s = 5e-8;
-// Receivers closer than this many patch sides are the near field (shot_form_factors.cpp).
-constexpr double kNearFieldSides = 3.0;
 // Shots: each takes the patch with most unshot power and sends on the share its receivers
 // reflect, so the unshot power falls about as exp(-(1 - rho) shots / P') for P patches of
 // mean reflectance rho, P' a fraction of P (the brightest shoot first). Measured: cornell
@@ -132,7 +132,7 @@ std::vector<Part> parts_of(const Scene& scene) {
     part.patches = double(p.count);
     part.groups = double(p.groups);
     part.side = p.side;
-    part.element_size = o.density.element_size > 0 ? o.density.element_size : size;
+    part.element_size = p.element;
     std::tie(part.lo, part.hi) = object_bounds(o);
     part.emitter = m.emission.r + m.emission.g + m.emission.b > 0;
     part.specular = m.specular > 0;
@@ -154,17 +154,18 @@ double gap(const Part& a, const Part& b) {
 }
 
 // The near field of one shot from `a`: its receivers (elements of other objects, and of its
-// own faces where it has several, within kNearFieldSides patch sides) times the shooter's
-// points (four an element).
+// own faces where it has several, within kNearFieldSizes patch sides) times the shooter's
+// points.
 double near_field_s(const std::vector<Part>& parts, const Part& a) {
-  const double radius = kNearFieldSides * a.side, reach = a.side + 2 * radius;
+  const double radius = kNearFieldSizes * a.side, reach = a.side + 2 * radius;
   double receivers = 0;
   for (const Part& b : parts) {
     if (!b.near_receiver || (&b == &a && a.flat) || gap(a, b) >= radius) continue;
     receivers += std::min(b.elements, reach * reach / (b.element_size * b.element_size));
   }
   const double k = a.side / a.element_size;  // the largest patch's side, in elements
-  return receivers * 4 * std::min(a.elements, k * k) * kPerNearPoint_s;
+  return receivers * std::min(4 * std::min(a.elements, k * k), double(kNearFieldPoints)) *
+         kPerNearPoint_s;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // A new method implements ShotFormFactors and joins make_shot_form_factors().
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -17,6 +18,12 @@
 #include "solver/scene/scene.h"
 
 namespace bumprad {
+
+// The hemi-cube's near field: receivers closer than this many shooter sizes (the square
+// root of the patch's area) take Lambert's values averaged over at most this many points
+// of the shooter (solver/cost.cpp counts them).
+constexpr double kNearFieldSizes = 3.0;
+constexpr std::size_t kNearFieldPoints = 256;
 
 // A shot as its form factors see it.
 struct Shot {

@@ -636,11 +636,24 @@ PatchEstimate estimate_patches(const Scene& scene, const Object& object) {
         total += std::max<std::size_t>(1, n * n / (k * k));
       }
     }
-    return {total + cells.size(), double(k) * object_size, groups.size()};
+    return {total + cells.size(), double(k) * object_size, object_size, groups.size()};
   }
-  for (const Grid& g : grids_for(object, size))
+  // A grid's element side from its area (16 x 16 cells of its parametrisation): counts
+  // given in the scene set it, not the element size.
+  double area = 0, elements = 0;
+  for (const Grid& g : grids_for(object, size)) {
     total += ((std::size_t(g.nu) + k - 1) / k) * ((std::size_t(g.nv) + k - 1) / k);
-  return {total, double(k) * object_size, 0};
+    elements += double(g.nu) * g.nv;
+    constexpr int n = 16;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = g.position(double(i) / n, double(j) / n);
+        area += glm::length(glm::cross(g.position(double(i + 1) / n, double(j) / n) - p,
+                                       g.position(double(i) / n, double(j + 1) / n) - p));
+      }
+  }
+  const double element = std::sqrt(area / std::max(1.0, elements));
+  return {total, double(k) * element, element, 0};
 }
 
 Mesh build_mesh(const Scene& scene, std::stop_token stop) {

@@ -82,7 +82,8 @@ std::size_t estimate_element_count(const Object& object, double default_size);
 // progressive solve's shot count grows with (solver/cost.cpp), and about how wide.
 struct PatchEstimate {
   std::size_t count = 0;
-  double side = 0;         // k element sizes, k elements a patch side
+  double side = 0;         // k element sides, k elements a patch side
+  double element = 0;      // an element's side
   std::size_t groups = 0;  // of a mesh's triangles of at most one element (Mesh::groups)
 };
 PatchEstimate estimate_patches(const Scene& scene, const Object& object);
