@@ -42,8 +42,10 @@ constexpr double kPerNearPoint_s = 5e-8;
 // reflect, so the unshot power falls about as exp(-(1 - rho) shots / P') for P patches of
 // mean reflectance rho, P' a fraction of P (the brightest shoot first). Measured: cornell
 // (632 patches, rho 0.56) 750, 894, 1,049 and 1,468 shots to 2 %, 1 %, 0.5 % and 0.1 %
-// unshot; wrinkled-box (456, 0.64) 660 to 1 %; paper-room (1,007, 0.61) 1,182 to 5 % and
-// 1,731 to 1 %. This constant puts them all within 0.85-1.15.
+// unshot; wrinkled-box (456, 0.64) 660 to 1 %; the room and terrain families of
+// bumprad-bench-scale 263-283 to 1 % at any size. This constant puts them within 0.85-1.15
+// of it; paper-room's 1,182 to 5 % is 1.5 times it (its mirror's many small patches,
+// which reflect little diffusely, weigh the mean reflectance down).
 constexpr double kShotsPerPatch = 0.13;
 // Per element, once: the set-up before the first shot (mesh, weld, groups, rays, open
 // shares, near sets), and the view pass's part that grows with the mesh (vertex values, the
@@ -168,17 +170,13 @@ double near_field_s(const std::vector<Part>& parts, const Part& a) {
          kPerNearPoint_s;
 }
 
-}  // namespace
-
-double expected_shots(const Scene& scene) {
-  const std::vector<Part> parts = parts_of(scene);
+double shots_for(const std::vector<Part>& parts, const SolverSettings& s) {
   double patches = 0, emitters = 0, reflected = 0;
   for (const Part& p : parts) {
     patches += p.patches;
     emitters += p.emitter ? p.patches : 0;
     reflected += p.patches * p.reflectance;
   }
-  const SolverSettings& s = scene.solver;
   if (patches == 0) return 0;
   // A tolerance shoots on, the unshot target falling to a third a round, at most to 1e-4;
   // a target of 0 is never met, and every shot is spent.
@@ -187,6 +185,12 @@ double expected_shots(const Scene& scene) {
   const double rho = std::min(0.95, reflected / patches);
   const double shots = kShotsPerPatch * patches * std::log(1 / std::min(target, 1.0)) / (1 - rho);
   return std::min(double(s.max_shots), std::max(shots, emitters));
+}
+
+}  // namespace
+
+double expected_shots(const Scene& scene) {
+  return shots_for(parts_of(scene), scene.solver);
 }
 
 CostEstimate estimate_cost(const Scene& scene) {
@@ -201,7 +205,7 @@ CostEstimate estimate_cost(const Scene& scene) {
     patches += p.patches;
     emitter_patches += p.emitter ? p.patches : 0;
   }
-  const double shots = expected_shots(scene);
+  const double shots = shots_for(parts, s);
   // The emitters' patches shoot first; the rest of the shots fall to all patches alike. Per
   // shot, a patch's share of them times what its shots cost beyond the hemi-cube.
   const double first = std::min(shots, emitter_patches), rest = shots - first;
