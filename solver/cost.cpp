@@ -125,10 +125,12 @@ struct Part {
 
 std::vector<Part> parts_of(const Scene& scene) {
   const double size = default_element_size(scene);
+  const std::vector<PatchEstimate> patches = estimate_patches(scene);
   std::vector<Part> parts;
-  for (const Object& o : scene.objects) {
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
     const Material& m = scene.materials[std::size_t(o.material)];
-    const PatchEstimate p = estimate_patches(scene, o);
+    const PatchEstimate& p = patches[i];
     Part part;
     part.elements = double(estimate_element_count(o, size));
     part.patches = double(p.count);

@@ -461,9 +461,9 @@ double HemicubeFormFactors::near_field(const Shot& shot, std::uint32_t element,
 
 // The mean of Lambert's values over the shooter's points (near_points()), each counting
 // with the power it stands for: a patch lit at one end sends its near neighbours the light
-// of that end. Points
-// behind the receiver count nothing (a floor under a box sees only the back of its sides);
-// with `occluded`, nor do those a shadow ray from the receiver's centre does not reach.
+// of that end. Points behind the receiver count nothing (a floor under a box sees only the
+// back of its sides); with `occluded`, nor do those a shadow ray from the receiver's centre
+// does not reach.
 // -1 if the shooter shoots nothing.
 double HemicubeFormFactors::near_lambert(const Shot& shot, std::uint32_t element,
                                          bool occluded) const {

@@ -2,9 +2,10 @@
 // path tracer traces a random sample of the pixels of the view (a copy at most 512 x 1024,
 // at the camera's own rays a pixel: an image of larger pixels or more rays is smoother and
 // its error smaller), bumprad renders that view, and the relative RMS error over the
-// sampled lit pixels is taken with the path tracer's own noise (known per pixel) removed. The job's
-// reported error and the solver's tolerance (SolverSettings::tolerance) rest on it. The
-// estimator knows images and traced pixels, not solutions: the caller renders the view.
+// sampled lit pixels is taken with the path tracer's own noise (known per pixel) removed.
+// The job's reported error and the solver's tolerance (SolverSettings::tolerance) rest on
+// it. The estimator knows images and traced pixels, not solutions: the caller renders the
+// view.
 #pragma once
 
 #include <cstdint>

@@ -613,11 +613,12 @@ std::size_t estimate_element_count(const Object& object, double default_size) {
   return total;
 }
 
-PatchEstimate estimate_patches(const Scene& scene, const Object& object) {
-  const double size = default_element_size(scene);
+namespace {
+
+PatchEstimate object_patches(const Scene& scene, const Object& object, double size,
+                             double patch_size) {
   const double object_size = object.density.element_size > 0 ? object.density.element_size : size;
-  const std::size_t k =
-      std::size_t(patch_elements(scene, object, object_size, sixteenth_of_diagonal(scene)));
+  const std::size_t k = std::size_t(patch_elements(scene, object, object_size, patch_size));
   std::size_t total = 0;
   if (const auto* m = std::get_if<TriangleMeshShape>(&object.shape)) {
     // Triangles of one element cluster as mesh_triangles clusters them, into patches and
@@ -654,6 +655,17 @@ PatchEstimate estimate_patches(const Scene& scene, const Object& object) {
   }
   const double element = std::sqrt(area / std::max(1.0, elements));
   return {total, double(k) * element, element, 0};
+}
+
+}  // namespace
+
+std::vector<PatchEstimate> estimate_patches(const Scene& scene) {
+  // Both sizes pass over every object's vertices: once for the scene, not once an object.
+  const double size = default_element_size(scene), patch_size = sixteenth_of_diagonal(scene);
+  std::vector<PatchEstimate> out;
+  for (const Object& object : scene.objects)
+    out.push_back(object_patches(scene, object, size, patch_size));
+  return out;
 }
 
 Mesh build_mesh(const Scene& scene, std::stop_token stop) {

@@ -78,7 +78,7 @@ double default_element_size(const Scene& scene);
 // poles only removes), so that oversized scenes are refused before memory is spent.
 std::size_t estimate_element_count(const Object& object, double default_size);
 
-// The patches (shooters) build_mesh will make for `object` of `scene`: how many, what a
+// The patches (shooters) build_mesh will make for each object of `scene`: how many, what a
 // progressive solve's shot count grows with (solver/cost.cpp), and about how wide.
 struct PatchEstimate {
   std::size_t count = 0;
@@ -86,7 +86,7 @@ struct PatchEstimate {
   double element = 0;      // an element's side
   std::size_t groups = 0;  // of a mesh's triangles of at most one element (Mesh::groups)
 };
-PatchEstimate estimate_patches(const Scene& scene, const Object& object);
+std::vector<PatchEstimate> estimate_patches(const Scene& scene);
 
 // `stop` ends it between objects and between a mesh's triangles; the mesh is then partial,
 // good for nothing but to be thrown away.
