@@ -112,6 +112,11 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
     : mesh_(mesh), first_(mesh.vertices.size() + 1, 0), covered_(mesh.vertices.size(), 0.0) {
   const std::size_t vertex_count = mesh.vertices.size(), element_count = mesh.elements.size();
   if (element_count == 0) return;
+  if (!open.empty()) {
+    open_gain_.resize(element_count);
+    for (std::size_t i = 0; i < element_count; ++i)
+      open_gain_[i] = open[i] > 0 ? float(1 / open[i]) : 1.0f;
+  }
   const VertexElements adjacent(mesh);
   std::vector<double> radius(element_count), sizes(element_count);
   for (std::size_t i = 0; i < element_count; ++i) {
@@ -194,7 +199,7 @@ NearFieldShading::NearFieldShading(const NearField& near, std::span<const Rgb> r
     : near_(near), reflected_(reflected), near_light_(near.mesh().vertices.size(), Rgb(0)) {
   for (std::uint32_t v = 0; v < near_light_.size(); ++v)
     for (const NearField::Term& t : near.terms(v))
-      near_light_[v] += reflected[t.element] * t.mean_form_factor;
+      near_light_[v] += reflected[t.element] * (near.open_gain(t.element) * t.mean_form_factor);
 }
 
 Rgb NearFieldShading::correction(const Element& element, const std::array<double, 4>& weights,
@@ -224,7 +229,7 @@ Rgb NearFieldShading::correction(const Element& element, const std::array<double
     for (const NearField::Term& t : terms) {
       const double f = form_factor_to(t.element);
       covered += f;
-      light += reflected_[t.element] * f;
+      light += reflected_[t.element] * (near_.open_gain(t.element) * f);
     }
     const double s = near_.covered(v);
     const Rgb beyond = vertex_values[v] - reflectance * near_light_[v];

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -89,6 +90,68 @@ TEST(NearField, ANearSetLeavesOutWhatAnotherSurfaceHides) {
     }
   }
   EXPECT_GT(rug_terms, 0);
+}
+
+// A floor element half under a box holds its light on its open half, where the solve
+// spreads it over the whole element: the box's face along the floor sees only the open half
+// and must take the light there. A floor of radiosity 1 from x = -0.25 to 1.25, in 0.5 m
+// elements, the first straddling the face of a box standing on x < 0: at a point on that
+// face rho F(point -> the open floor, x > 0) exactly. Within 2 % (0.8 % measured; with the
+// spread value, half the straddling element's light, it was 36 % short at 1 cm).
+TEST(NearField, APartlyBuriedNeighbourGivesTheLightOfItsOpenPart) {
+  const std::array<Vec3, 4> floor = {Vec3(-0.25, 0, 0), Vec3(-0.25, 0, 1), Vec3(1.25, 0, 1),
+                                     Vec3(1.25, 0, 0)};
+  Object box;
+  box.shape = BoxShape{Vec3(-0.5, 0.5, 0.5), Vec3(1, 1, 1), Vec3(0)};
+  box.density.counts = {2, 2};
+  const Mesh mesh = build_mesh(test::scene_of({test::quad(floor, 2, 3), box}));
+  const RayScene rays(mesh);
+  const std::vector<double> open = open_share(mesh, rays);
+  const NearField near(mesh, rays, open);
+  const double rho = 0.5;
+  const Vec3 out(1, 0, 0);
+  const std::array<Vec3, 4> lit = {Vec3(0, 0, 0), Vec3(0, 0, 1), Vec3(1.25, 0, 1),
+                                   Vec3(1.25, 0, 0)};
+  auto exact = [&](const Vec3& p) { return rho * point_to_polygon(p, out, lit); };
+
+  // The floor as the solve gives it (the straddling elements' light spread over them), the
+  // face's elements the exact light averaged over each, the rest dark.
+  std::vector<Rgb> reflected(mesh.elements.size(), Rgb(0));
+  bool straddles = false;
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    if (e.object == 0) {
+      reflected[i] = Rgb(open[i]);
+      straddles = straddles || (open[i] > 0.4 && open[i] < 0.6);
+    } else if (e.normal.x > 0.99) {
+      double sum = 0;
+      for (int a = 0; a < 32; ++a)
+        for (int b = 0; b < 32; ++b) {
+          const auto w = corner_weights(e, (a + 0.5) / 32, (b + 0.5) / 32);
+          Vec3 p(0);
+          for (int k = 0; k < 4; ++k)
+            p += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+          sum += exact(p);
+        }
+      reflected[i] = Rgb(sum / 1024);
+    }
+  }
+  ASSERT_TRUE(straddles) << "a floor element half under the box";
+  const std::vector<Rgb> values = vertex_radiosity(mesh, reflected, open);
+  const NearFieldShading shading(near, reflected);
+  for (double h : {0.01, 0.05, 0.2})
+    for (double z : {0.3, 0.6}) {
+      const auto hit = rays.intersect({Vec3(0.5, h, z), -out});
+      ASSERT_TRUE(hit && hit->front);
+      const Element& e = mesh.elements[hit->element];
+      ASSERT_GT(e.normal.x, 0.99) << "the box's face";
+      const Vec3 p(0, h, z);
+      const double corrected =
+          interpolate(e, values, hit->u, hit->v).r +
+          shading.correction(e, corner_weights(e, hit->u, hit->v), p, out, Rgb(rho), values).r;
+      std::printf("%.2f m up, z %.1f: %.4f of exact\n", h, z, corrected / exact(p));
+      EXPECT_NEAR(corrected / exact(p), 1, 0.02) << h << " m up, z " << z;
+    }
 }
 
 }  // namespace
