@@ -264,9 +264,8 @@ std::vector<Rgb> map_light(const Scene& scene, const Solution& solution) {
     const Rgb rho = reflectance[s] / area[s];
     std::vector<double> values(n);
     std::vector<Vec3> local;
-    Random rng(hash64(s));
     lights.direct_sources(
-        v.position, normal, *solution.rays, kMapShadowRays, rng,
+        v.position, normal, *solution.rays, ShadowRays{kMapShadowRays, hash64(s)},
         [&](const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon) {
           if (polygon.empty()) {
             basis.project(frame.to_local(toward), values);

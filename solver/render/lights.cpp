@@ -36,6 +36,15 @@ constexpr double kGroupReach = 8;
 // 0.19 at 4x, 0.18 at 8x; only penumbrae pay (cornell's view pass 0.57 -> 0.68 s at 256^2).
 constexpr int kPenumbraRays = 4;
 
+// The index in the sequence of a hit's ray r, `block` rays a hit before a penumbra's extra
+// ones: the hit's own block of the first hits x block points, then its own block of the extra
+// points that follow them. When every hit of a pixel lies in the penumbra, their rays are the
+// first kPenumbraRays x hits x block points: one net.
+std::uint32_t ray_index(const ShadowRays& shadow, std::uint32_t block, std::uint32_t r) {
+  if (r < block) return shadow.hit * block + r;
+  return shadow.hits * block + shadow.hit * block * (kPenumbraRays - 1) + (r - block);
+}
+
 // Veach's power heuristic: the weight of a sample drawn with density `a` where another
 // strategy would have drawn it with density `b`.
 double power_heuristic(double a, double b) {
@@ -347,23 +356,28 @@ bool Lights::arrives(const Seen& s, const Vec3& from, const Vec3& geometric, con
 }
 
 void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, const RayScene& rays,
-                     int shadow_rays, Random& random, std::vector<Visible>& out) const {
+                     const ShadowRays& shadow, std::vector<Visible>& out) const {
   thread_local std::vector<Seen> seen;
   out.clear();
   const double total = seen_from(x, geometric, seen);
   if (seen.empty()) return;
-  const int n = std::max(1, shadow_rays);
+  const int n = std::max(1, shadow.count);
   if (seen.size() <= std::size_t(n)) {
     // Few: each gets its own rays, to stratified points of it (Sobol02 over its elements by
     // area), so one seen whole is wholly visible; where they disagree (a penumbra) the
-    // sequence goes on to kPenumbraRays times as many, its first points among them.
+    // sequence goes on to kPenumbraRays times as many, its first points among them. A
+    // source's sequence is shifted by the pixel's scramble and the source itself, so the
+    // hits of a pixel that see it share it.
     const int each = n / int(seen.size());
     for (const Seen& s : seen) {
-      const Sobol02 points(random);
+      const std::uint64_t source = (std::uint64_t(s.elements.front()) << 16) ^
+                                   std::uint64_t(s.mirror ? s.mirror - mirrors_.data() + 1 : 0);
+      Random shift(hash64(shadow.scramble ^ hash64(source)));
+      const Sobol02 points(shift);
       auto hits_in = [&](int first, int end) {
         int hits = 0;
         for (int r = first; r < end; ++r) {
-          const auto [u, v] = points[std::uint32_t(r)];
+          const auto [u, v] = points[ray_index(shadow, std::uint32_t(each), std::uint32_t(r))];
           hits += arrives(s, from, geometric, point_on(s, u, v), rays);
         }
         return hits;
@@ -386,11 +400,12 @@ void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, con
   reached.clear();
   for (const Seen& s : seen) reached.push_back((reached.empty() ? 0 : reached.back()) + s.share);
   slot.assign(seen.size(), std::size_t(-1));
-  const Sobol02 points(random);
+  Random shift(hash64(shadow.scramble));
+  const Sobol02 points(shift);
   int arrived = 0;
   auto cast = [&](int first, int end) {
     for (int r = first; r < end; ++r) {
-      const auto [u, v] = points[std::uint32_t(r)];
+      const auto [u, v] = points[ray_index(shadow, std::uint32_t(n), std::uint32_t(r))];
       const auto [k, rest] = pick(reached, u * total);
       const Seen& s = seen[k];
       if (!arrives(s, from, geometric, point_on(s, rest, v), rays)) continue;
@@ -422,7 +437,7 @@ std::span<const Vec3> Lights::polygon(const Seen& s, std::vector<Vec3>& storage)
 }
 
 Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
-                   int shadow_rays, Random& random) const {
+                   const ShadowRays& shadow) const {
   const Vec3 from = x + geometric * epsilon_;
   Rgb sum(0);
   for (const PunctualLight& l : punctual_) {
@@ -431,7 +446,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
   }
   thread_local std::vector<Visible> seen;
   thread_local std::vector<Vec3> corners;
-  visible(x, from, geometric, rays, shadow_rays, random, seen);
+  visible(x, from, geometric, rays, shadow, seen);
   for (const Visible& v : seen) {
     // The shares were judged by the geometric plane; on a flat surface unbumped F is theirs
     // (an interpolated normal there is the geometric one to within 1e-7 radians).
@@ -444,7 +459,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
 }
 
 void Lights::direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays,
-                            int shadow_rays, Random& random, const SourceVisitor& visit) const {
+                            const ShadowRays& shadow, const SourceVisitor& visit) const {
   const Vec3 from = x + geometric * epsilon_;
   for (const PunctualLight& l : punctual_) {
     const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
@@ -452,18 +467,18 @@ void Lights::direct_sources(const Vec3& x, const Vec3& geometric, const RayScene
   }
   thread_local std::vector<Visible> seen;
   thread_local std::vector<Vec3> corners;
-  visible(x, from, geometric, rays, shadow_rays, random, seen);
+  visible(x, from, geometric, rays, shadow, seen);
   for (const Visible& v : seen)
     visit(v.seen.group->emission * (v.share * (v.seen.mirror ? v.seen.mirror->specular : 1)),
           Vec3(0), polygon(v.seen, corners));
 }
 
 DirectForm Lights::direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
-                               int shadow_rays, Random& random) const {
+                               const ShadowRays& shadow) const {
   DirectForm form;
   thread_local std::vector<Vec3> toward;  // unit directions to everything seen
   toward.clear();
-  direct_sources(x, geometric, rays, shadow_rays, random,
+  direct_sources(x, geometric, rays, shadow,
                  [&](const Rgb& weight, const Vec3& to, std::span<const Vec3> polygon) {
                    const Vec3 vector = polygon.empty() ? to : polygon_vector(x, polygon);
                    for (int c = 0; c < 3; ++c)

@@ -41,6 +41,18 @@ struct DirectForm {
   }
 };
 
+// The shadow rays of one hit (Lights::direct()): `count` of them, to points of each source
+// taken from a (0,2)-sequence shifted by `scramble`. The hits of one pixel share its scramble
+// and each takes its own blocks of the sequence (this is hit `hit` of `hits`), so that
+// together they stratify a source as one net of hits x count points: over a penumbra a pixel
+// then averages its rays as well spread as that many can be, where a shift of each hit's own
+// would leave `hits` nets of `count` points each, and twice the noise.
+struct ShadowRays {
+  int count = 4;
+  std::uint64_t scramble = 0;
+  std::uint32_t hit = 0, hits = 1;
+};
+
 class Lights {
  public:
   Lights(const Mesh& mesh, std::span<const Material> materials,
@@ -61,25 +73,25 @@ class Lights {
   // units (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's
   // reflectance), plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact
   // (Lambert, clipped to the plane of `normal`); V, the visible share (through the mirror,
-  // for an image), comes from `shadow_rays` rays spread over the emitters and images by their
+  // for an image), comes from `shadow` rays spread over the emitters and images by their
   // contribution to the geometric surface (`geometric`, the element's own normal: light below
   // it is hidden, and the rays leave along it), to stratified points of them (a scrambled
   // (0,2)-sequence over their elements by area), so a point that sees them fully gets the
   // exact value without noise, and penumbrae are smoother than from independent points. No
   // ray depends on `normal`: a bump changes F alone.
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
-             int shadow_rays, Random& random) const;
+             const ShadowRays& shadow) const;
   // The same rays' verdict kept for any normal to come (DirectForm): direct() and
   // direct_form().at() agree for every normal the form covers.
   DirectForm direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
-                         int shadow_rays, Random& random) const;
+                         const ShadowRays& shadow) const;
   // What direct_form() sums, source by source, from the same rays: each punctual light's
   // irradiance and unit direction (`polygon` empty), and each emitter or mirror image seen,
   // its E V (k_s V for an image) and polygon, whose clipped form factor at N' is its F.
   using SourceVisitor =
       std::function<void(const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon)>;
-  void direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays, int shadow_rays,
-                      Random& random, const SourceVisitor& visit) const;
+  void direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays,
+                      const ShadowRays& shadow, const SourceVisitor& visit) const;
 
   // Next-event estimation for the path tracer, unbiased: each punctual light's irradiance
   // (deterministic), plus a point y on an emitter chosen by
@@ -155,7 +167,7 @@ class Lights {
   };
   // The sources seen from x's geometric plane that its shadow rays reach (direct()).
   void visible(const Vec3& x, const Vec3& from, const Vec3& geometric, const RayScene& rays,
-               int shadow_rays, Random& random, std::vector<Visible>& out) const;
+               const ShadowRays& shadow, std::vector<Visible>& out) const;
   // The polygon of what `s` sees, reflected in its mirror for an image.
   std::span<const Vec3> polygon(const Seen& s, std::vector<Vec3>& storage) const;
   Vec3 point_on(const Seen& s, double u, double v) const;

@@ -23,8 +23,11 @@ namespace bumprad {
 namespace {
 
 // A pixel is sampled again when the standard error of its first samples' mean luminance is
-// above this share of it (1 % refined twice the pixels of paper-room for 0.05 % of error).
+// above this share of it (1 % refined twice the pixels of paper-room for 0.05 % of error),
+// or when its first samples meet different surfaces (a silhouette or a crease crosses it).
 constexpr double kAdaptiveThreshold = 0.02;
+
+constexpr std::uint32_t kNoSurface = ~0u;  // what a ray that misses, or meets a back face, meets
 
 // A point on a surface as the view pass shades it.
 struct SurfacePoint {
@@ -80,43 +83,48 @@ class Tracer {
   bool has_lights() const { return detail_.lights != nullptr; }
 
   // What a camera ray sees, as kept: `sample` (and `form`, with exact direct light) record
-  // what no bump changes; the colour returned is again()'s for them.
-  Rgb first(const Ray& ray, std::uint64_t seed, std::span<const BumpFunction> bumps, Sample& sample,
-            DirectForm* form) const {
+  // what no bump changes; the colour returned is again()'s for them. `surface` is the smooth
+  // surface the ray meets first (kNoSurface: none, or a back face). `shadow`: the shadow rays
+  // of its first hit.
+  Rgb first(const Ray& ray, std::uint64_t seed, const ShadowRays& shadow,
+            std::span<const BumpFunction> bumps, Sample& sample, DirectForm* form,
+            std::uint32_t& surface) const {
     Random rng(seed);
     const auto hit = rays_.intersect(ray);
+    surface = kNoSurface;
     if (!hit || !hit->front) {
       sample = {};
       return Rgb(0);
     }
     const Element& e = mesh_.elements[hit->element];
+    surface = e.surface;
     if (bumpy(e) && !specular(e)) {
       const Vec3 x = ray.origin + double(float(hit->t)) * ray.direction;
       const SurfaceAt s = surface_at(mesh_, e, double(float(hit->u)), double(float(hit->v)));
       sample = {Sample::Kind::Bumpy, hit->element,  float(hit->u),
                 float(hit->v),       float(hit->t), glm::vec3(near_part(e, s, x))};
-      if (detail_.lights)
-        *form = detail_.lights->direct_form(x, e.normal, rays_, camera_.shadow_rays, rng);
-      return again(ray, seed, bumps, sample, form);
+      if (detail_.lights) *form = detail_.lights->direct_form(x, e.normal, rays_, shadow);
+      return again(ray, seed, shadow, bumps, sample, form);
     }
     bool bumped = false;
-    const Rgb c = trace_from(*hit, ray, 0, rng, bumps, bumped);
+    const Rgb c = trace_from(*hit, ray, 0, rng, bumps, bumped, shadow);
     if (bumped) {
       sample = {Sample::Kind::Traced, 0, 0, 0, 0, glm::vec3(0)};
       return c;
     }
     sample = {Sample::Kind::Fixed, 0, 0, 0, 0, glm::vec3(c)};
-    return again(ray, seed, bumps, sample, form);
+    return again(ray, seed, shadow, bumps, sample, form);
   }
 
-  // The colour of a kept sample for `bumps`: the ray and seed are first()'s.
-  Rgb again(const Ray& ray, std::uint64_t seed, std::span<const BumpFunction> bumps,
-            const Sample& sample, const DirectForm* form) const {
+  // The colour of a kept sample for `bumps`: the ray, seed and shadow rays are first()'s.
+  Rgb again(const Ray& ray, std::uint64_t seed, const ShadowRays& shadow,
+            std::span<const BumpFunction> bumps, const Sample& sample,
+            const DirectForm* form) const {
     if (sample.kind == Sample::Kind::Fixed) return Rgb(sample.value);
     if (sample.kind == Sample::Kind::Traced) {
       Random rng(seed);
       bool bumped = false;
-      return trace(ray, 0, rng, bumps, bumped);
+      return trace(ray, 0, rng, bumps, bumped, shadow);
     }
     const Element& e = mesh_.elements[sample.element];
     const Material& m = detail_.materials[std::size_t(e.material)];
@@ -130,9 +138,8 @@ class Tracer {
       if (form->covers(normal)) {
         direct = form->at(normal);
       } else {
-        Random rng(seed);
         direct = detail_.lights->direct(ray.origin + double(sample.t) * ray.direction, normal,
-                                        e.normal, rays_, camera_.shadow_rays, rng);
+                                        e.normal, rays_, shadow);
       }
       b += m.reflectance * direct;
     }
@@ -154,19 +161,21 @@ class Tracer {
   // exact direct light a glossy surface also samples the emitters and their images in
   // planar mirrors (Lights::glossy_next_event), and a lobe ray counts the emission it meets
   // straight or after one planar mirror with the lobe's weight. `bumped` is set when a
-  // surface on the way is bumpy.
+  // surface on the way is bumpy. `shadow`: the first hit's shadow rays (the camera ray's);
+  // later hits draw their own.
   Rgb trace(const Ray& ray, int depth, Random& rng, std::span<const BumpFunction> bumps,
-            bool& bumped, const LobeRay& lobe_ray = {}) const {
+            bool& bumped, const ShadowRays& shadow, const LobeRay& lobe_ray = {}) const {
     const auto hit = rays_.intersect(ray);
     if (!hit || !hit->front) return Rgb(0);
-    return trace_from(*hit, ray, depth, rng, bumps, bumped, lobe_ray);
+    return trace_from(*hit, ray, depth, rng, bumps, bumped, shadow, lobe_ray);
   }
 
   Rgb trace_from(const Hit& hit, const Ray& ray, int depth, Random& rng,
-                 std::span<const BumpFunction> bumps, bool& bumped,
+                 std::span<const BumpFunction> bumps, bool& bumped, const ShadowRays& shadow,
                  const LobeRay& lobe_ray = {}) const {
     const Element& e = mesh_.elements[hit.element];
-    SurfacePoint p = shade(hit, ray, rng, bumps, bumped);
+    SurfacePoint p = shade(hit, ray, bumps, bumped,
+                           depth == 0 ? shadow : ShadowRays{camera_.shadow_rays, rng.bits64()});
     const Material* m =
         detail_.materials.empty() ? nullptr : &detail_.materials[std::size_t(e.material)];
     const Lights* lights = detail_.lights;
@@ -182,7 +191,8 @@ class Tracer {
       LobeRay next;
       if (lobe_ray.pdf > 0 && !lobe_ray.mirrored && lights && lights->planar_mirror(e.surface))
         next = {lobe_ray.pdf, lobe_ray.travelled + hit.t, true};
-      return p.radiosity + m->specular * trace({from, r}, depth + 1, rng, bumps, bumped, next);
+      return p.radiosity +
+             m->specular * trace({from, r}, depth + 1, rng, bumps, bumped, shadow, next);
     }
     const int samples = lobe_ray.pdf > 0 ? 1 : std::max(1, camera_.glossy_samples);
     const PhongLobe lobe(r, p.normal, m->shininess);
@@ -191,13 +201,13 @@ class Tracer {
       if (lights) sum += lights->glossy_next_event(from, e.normal, lobe, rays_, rng);
       Vec3 d;
       if (lobe.sample(rng, d))
-        sum += trace({from, d}, depth + 1, rng, bumps, bumped, {lobe.pdf(d)});
+        sum += trace({from, d}, depth + 1, rng, bumps, bumped, shadow, {lobe.pdf(d)});
     }
     return p.radiosity + m->specular * sum / double(samples);
   }
 
-  SurfacePoint shade(const Hit& hit, const Ray& ray, Random& rng,
-                     std::span<const BumpFunction> bumps, bool& bumped) const {
+  SurfacePoint shade(const Hit& hit, const Ray& ray, std::span<const BumpFunction> bumps,
+                     bool& bumped, const ShadowRays& shadow) const {
     const Element& e = mesh_.elements[hit.element];
     const SurfaceAt s = surface_at(mesh_, e, hit.u, hit.v);
     SurfacePoint p{ray.origin + hit.t * ray.direction, s.normal,
@@ -211,9 +221,8 @@ class Tracer {
     // Exact direct light (the radiosity holds the indirect light only): rho E F V per
     // emitter, with the perturbed normal.
     if (detail_.lights)
-      p.radiosity +=
-          detail_.materials[std::size_t(e.material)].reflectance *
-          detail_.lights->direct(p.position, p.normal, e.normal, rays_, camera_.shadow_rays, rng);
+      p.radiosity += detail_.materials[std::size_t(e.material)].reflectance *
+                     detail_.lights->direct(p.position, p.normal, e.normal, rays_, shadow);
     p.radiosity = textured(e, s.uv, p.radiosity);
     return p;
   }
@@ -273,6 +282,7 @@ struct Pixel {
   glm::vec3 value{0};           // a fixed pixel's radiance
   std::uint32_t grid = kFixed;  // its n x n samples' first index in the row
   std::uint32_t fine = kNone;   // its m x m samples' first index, once needed
+  bool edge = false;            // its n x n samples met more than one surface
 };
 
 struct Row {
@@ -329,6 +339,7 @@ struct ViewPass::Impl {
     Rgb mean;
     double relative_error;
     bool fixed;  // all its samples are
+    bool edge;   // its samples met more than one surface (known when they were first traced)
   };
   Estimate estimate(Row& row, int x, int y, int k, std::uint32_t& first,
                     std::span<const BumpFunction> bumps) const {
@@ -340,18 +351,26 @@ struct ViewPass::Impl {
     }
     Rgb sum(0);
     double lum = 0, lum2 = 0;
-    bool fixed = true;
+    bool fixed = true, edge = false;
+    std::uint32_t first_surface = kNoSurface;
+    const std::uint64_t pixel =
+        (std::uint64_t(y) << 40) ^ (std::uint64_t(x) << 16) ^ (std::uint64_t(k) << 10);
     for (int sy = 0; sy < k; ++sy)
       for (int sx = 0; sx < k; ++sx) {
         const double u = (sx + (sy + 0.5) / k) / k, v = (sy + (sx + 0.5) / k) / k;
         const Ray ray = pinhole_.ray(x + u, y + v);
-        // One stream per ray, so a ray traced again draws the same numbers.
-        const std::uint64_t seed = hash64((std::uint64_t(y) << 40) ^ (std::uint64_t(x) << 16) ^
-                                          (std::uint64_t(k) << 10) ^ std::uint64_t(sy * k + sx));
-        const std::size_t i = first + std::size_t(sy * k + sx);
+        // One stream per ray, so a ray traced again draws the same numbers; the pixel's
+        // shadow rays one sequence, each ray's first hit its own blocks of it.
+        const std::uint32_t index = std::uint32_t(sy * k + sx);
+        const std::uint64_t seed = hash64(pixel ^ index);
+        const ShadowRays shadow{camera_.shadow_rays, hash64(~pixel), index, std::uint32_t(k * k)};
+        const std::size_t i = first + index;
         DirectForm* form = tracer_.has_lights() ? &row.forms[i] : nullptr;
-        const Rgb c = keep ? tracer_.first(ray, seed, bumps, row.samples[i], form)
-                           : tracer_.again(ray, seed, bumps, row.samples[i], form);
+        std::uint32_t surface = kNoSurface;
+        const Rgb c = keep ? tracer_.first(ray, seed, shadow, bumps, row.samples[i], form, surface)
+                           : tracer_.again(ray, seed, shadow, bumps, row.samples[i], form);
+        if (sx + sy == 0) first_surface = surface;
+        edge = edge || surface != first_surface;
         fixed = fixed && row.samples[i].kind == Sample::Kind::Fixed;
         const double l = (c.r + c.g + c.b) / 3;
         sum += c;
@@ -360,7 +379,7 @@ struct ViewPass::Impl {
       }
     const double count = double(k * k), mean = lum / count;
     const double variance = k > 1 ? std::max(0.0, lum2 / count - mean * mean) / (count - 1) : 0;
-    return {sum / count, mean > 0 ? std::sqrt(variance) / mean : 0, fixed};
+    return {sum / count, mean > 0 ? std::sqrt(variance) / mean : 0, fixed, edge};
   }
 
   void render_row(int y, std::span<const BumpFunction> bumps, Image& image) const {
@@ -383,19 +402,22 @@ struct ViewPass::Impl {
       const std::uint32_t mark = std::uint32_t(row.samples.size());
       if (first) p.grid = Pixel::kNone;
       Estimate e = estimate(row, x, y, n_, p.grid, bumps);
+      if (first) p.edge = e.edge;
       // Adaptive antialiasing: where the n x n samples disagree (an edge, a texture's
       // border, a penumbra) an m x m grid takes their place. Averaging the first samples
       // in would keep a fifth of their error, which on an edge is several times the finer
       // grid's. On paper-room (160 x 120) 16 % of the pixels are sampled again, and the
-      // error against the path-traced reference falls from 2.7 % to 2.2 %.
-      if (m_ > n_ && e.relative_error > kAdaptiveThreshold) {
+      // error against the path-traced reference falls from 2.7 % to 2.2 %. An edge between
+      // two surfaces of like luminance is refined too: what each shows changes across the
+      // edge, and a row kept for re-texturing refines the same pixels whatever the bumps.
+      if (m_ > n_ && (p.edge || e.relative_error > kAdaptiveThreshold)) {
         const bool fixed = e.fixed;
         e = estimate(row, x, y, m_, p.fine, bumps);
         e.fixed = e.fixed && fixed;
       }
       const Rgb radiance = e.mean / std::numbers::pi;
       if (first && e.fixed) {  // no bump can change it: keep the pixel, not its rays
-        p = Pixel{glm::vec3(radiance), Pixel::kFixed, Pixel::kNone};
+        p = Pixel{glm::vec3(radiance), Pixel::kFixed, Pixel::kNone, false};
         row.samples.resize(mark);
         if (tracer_.has_lights()) row.forms.resize(mark);
         image.set(x, y, Rgb(p.value));

@@ -26,6 +26,7 @@ class Random {
   // Uniform in [0, 1).
   double next() { return double(hash64(state_ += 0x9e3779b97f4a7c15ull) >> 11) * 0x1.0p-53; }
   std::uint32_t bits() { return std::uint32_t(hash64(state_ += 0x9e3779b97f4a7c15ull) >> 32); }
+  std::uint64_t bits64() { return hash64(state_ += 0x9e3779b97f4a7c15ull); }
 
  private:
   std::uint64_t state_;

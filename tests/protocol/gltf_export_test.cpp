@@ -235,10 +235,12 @@ TEST(GltfExport, WithExactDirectLightTheFilesMapAnswersToTheLampToo) {
       const Vec3 n = tangent_frame(v.normal, v.dpdu).to_world(tilted);
       const auto direct = [&](const Vec3& normal) {
         Random r(j);
-        return lights.direct(v.position, normal, v.normal, *solution.rays, 64, r);
+        return lights.direct(v.position, normal, v.normal, *solution.rays,
+                             ShadowRays{64, r.bits64()});
       };
       Random r(j);
-      const DirectForm form = lights.direct_form(v.position, v.normal, *solution.rays, 64, r);
+      const DirectForm form =
+          lights.direct_form(v.position, v.normal, *solution.rays, ShadowRays{64, r.bits64()});
       cut += !form.covers(n);
       const Rgb change = rho * (direct(n) - direct(v.normal));
       moved += std::abs(change[0]) > 0.05 * b[i][0];
