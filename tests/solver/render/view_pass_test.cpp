@@ -100,6 +100,26 @@ TEST(ViewPass, AntialiasingCoversEdgesAlongTheAxesInFineSteps) {
   EXPECT_LT(worst, 1.0 / 32 + 1e-4);
 }
 
+// The quad's slanted right edge in the plane z = 0, which is parallel to the image: pixel
+// (x, y) is the rectangle from world(x, y) to world(x + 1, y + 1), and the quad covers it
+// left of x = 1.6 + 0.2 (y + 1); coverage() is that share, computed exactly.
+struct SlantedEdge {
+  PinholeCamera pin;
+  Vec3 world(double u, double v) const {
+    const Ray r = pin.ray(u, v);
+    return Vec3(r.origin + (-r.origin.z / r.direction.z) * r.direction);
+  }
+  double coverage(int x, int y) const {
+    const Vec3 lo = world(x, y + 1), hi = world(x + 1, y);
+    double sum = 0;
+    for (int i = 0; i < 4096; ++i) {
+      const double wy = lo.y + (hi.y - lo.y) * (i + 0.5) / 4096;
+      sum += std::clamp((1.6 + 0.2 * (wy + 1) - lo.x) / (hi.x - lo.x), 0.0, 1.0);
+    }
+    return sum / 4096;
+  }
+};
+
 // Adaptive antialiasing: where a pixel's 4 x 4 samples disagree, 8 x 8 take their place. A
 // slanted edge (1 in 5, which no sheared grid lines up with) then shows each pixel's
 // coverage, computed exactly, within 1/40 (measured 0.020, the 4 x 4 grid alone 0.051);
@@ -116,22 +136,9 @@ TEST(ViewPass, AdaptiveAntialiasingSamplesEdgesAgain) {
   adaptive.antialias_max = 0;  // 2n
   const Image a = render_view(m, rays, fixed, b), c = render_view(m, rays, adaptive, b);
 
-  // The plane z = 0 is parallel to the image: pixel (x, y) is the rectangle from
-  // world(x, y) to world(x + 1, y + 1); the quad covers it left of x = 1.6 + 0.2 (y + 1).
-  const PinholeCamera pin(fixed);
-  auto world = [&](double u, double v) {
-    const Ray r = pin.ray(u, v);
-    return Vec3(r.origin + (-r.origin.z / r.direction.z) * r.direction);
-  };
-  auto coverage = [&](int x, int y) {
-    const Vec3 lo = world(x, y + 1), hi = world(x + 1, y);
-    double sum = 0;
-    for (int i = 0; i < 4096; ++i) {
-      const double wy = lo.y + (hi.y - lo.y) * (i + 0.5) / 4096;
-      sum += std::clamp((1.6 + 0.2 * (wy + 1) - lo.x) / (hi.x - lo.x), 0.0, 1.0);
-    }
-    return sum / 4096;
-  };
+  const SlantedEdge slanted{PinholeCamera(fixed)};
+  auto world = [&](double u, double v) { return slanted.world(u, v); };
+  auto coverage = [&](int x, int y) { return slanted.coverage(x, y); };
   double worst_fixed = 0, worst_adaptive = 0;
   int edge = 0;
   for (int y = 0; y < fixed.height; ++y)
@@ -167,20 +174,9 @@ TEST(ViewPass, AnEdgeBetweenSurfacesOfLikeLuminanceIsSampledAgain) {
   camera.antialias = 4;
   const Image image = render_view(m, rays, camera, b);
 
-  const PinholeCamera pin(camera);
-  auto world = [&](double u, double v) {
-    const Ray r = pin.ray(u, v);
-    return Vec3(r.origin + (-r.origin.z / r.direction.z) * r.direction);
-  };
-  auto coverage = [&](int x, int y) {  // of the front quad, in its plane
-    const Vec3 lo = world(x, y + 1), hi = world(x + 1, y);
-    double sum = 0;
-    for (int i = 0; i < 4096; ++i) {
-      const double wy = lo.y + (hi.y - lo.y) * (i + 0.5) / 4096;
-      sum += std::clamp((1.6 + 0.2 * (wy + 1) - lo.x) / (hi.x - lo.x), 0.0, 1.0);
-    }
-    return sum / 4096;
-  };
+  const SlantedEdge slanted{PinholeCamera(camera)};  // the front quad's
+  auto world = [&](double u, double v) { return slanted.world(u, v); };
+  auto coverage = [&](int x, int y) { return slanted.coverage(x, y); };
   double worst = 0;
   int edge = 0;
   for (int y = 0; y < camera.height; ++y)
