@@ -369,7 +369,7 @@ struct ViewPass::Impl {
         std::uint32_t surface = kNoSurface;
         const Rgb c = keep ? tracer_.first(ray, seed, shadow, bumps, row.samples[i], form, surface)
                            : tracer_.again(ray, seed, shadow, bumps, row.samples[i], form);
-        if (sx + sy == 0) first_surface = surface;
+        if (index == 0) first_surface = surface;
         edge = edge || surface != first_surface;
         fixed = fixed && row.samples[i].kind == Sample::Kind::Fixed;
         const double l = (c.r + c.g + c.b) / 3;
