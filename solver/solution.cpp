@@ -8,6 +8,7 @@
 #include "solver/render/error_estimate.h"
 #include "solver/render/lights.h"
 #include "solver/render/view_pass.h"
+#include "solver/scene/planar_mirror.h"
 #include "solver/scene/subdivision.h"
 #include "solver/util/parallel.h"
 #include "solver/util/random.h"
@@ -55,7 +56,8 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
   ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open, stop);
-  solver.shine(scene.lights, *out.rays, stop);
+  solver.shine(punctual_sources(scene.lights, planar_mirror_planes(mesh, scene.materials)),
+               *out.rays, stop);
   if (stop.stop_requested()) return out;
   out.stats.seconds_setup = seconds_since(t0);
   double texture_s = 0;

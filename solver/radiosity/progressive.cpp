@@ -30,14 +30,15 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
   }
 }
 
-void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RayScene& rays,
+void ProgressiveSolver::shine(std::span<const PunctualSource> lights, const RayScene& rays,
                               std::stop_token stop) {
   if (lights.empty()) return;
   const double epsilon = ray_epsilon(mesh_);
   std::vector<Arrival> arrivals(mesh_.elements.size());
   for (std::uint32_t i = 0; i < arrivals.size(); ++i) arrivals[i] = {i, Rgb(0), Rgb(0)};
-  Rgb emitted(0), escaped(0);
-  for (const PunctualLight& l : lights) {
+  Rgb emitted(0), escaped(0), reflected(0);
+  std::vector<Rgb> straight;  // per element, from the last light itself (its images follow it)
+  for (const PunctualSource& l : lights) {
     std::vector<Rgb> incident(mesh_.elements.size());
     parallel_for(
         int(mesh_.elements.size()),
@@ -55,13 +56,26 @@ void ProgressiveSolver::shine(std::span<const PunctualLight> lights, const RaySc
       arrivals[i].incident += incident[i];
       received += incident[i];
     }
+    if (l.mirror) {
+      // An image sends on what its mirror reflects of the light (k_s of what the mirror's
+      // elements received, which the ledger had counted absorbed there).
+      Rgb sent(0);
+      for (std::size_t i = 0; i < incident.size(); ++i)
+        if (mesh_.elements[i].surface == l.mirror->surface)
+          sent += l.mirror->specular * straight[i];
+      reflected += glm::max(sent, received);
+      escaped += glm::max(Rgb(0), sent - received);
+      continue;
+    }
     // A directional light sends what the scene intercepts. A point's power that meets no
     // element's front escapes (never below zero: the quarter points are a quadrature).
-    const Rgb sent = l.kind == PunctualLight::Kind::Directional ? received : punctual_power(l);
+    const Rgb sent =
+        l.light.kind == PunctualLight::Kind::Directional ? received : punctual_power(l.light);
     emitted += glm::max(sent, received);
     escaped += glm::max(Rgb(0), sent - received);
+    straight = std::move(incident);
   }
-  residuals_.shine(arrivals, emitted, escaped);
+  residuals_.shine(arrivals, emitted, escaped, reflected);
 }
 
 void ProgressiveSolver::attach_map(PerturbedMap* map) {

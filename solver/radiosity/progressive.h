@@ -38,9 +38,10 @@ class ProgressiveSolver {
                     const SolverSettings& settings, const RayScene* rays = nullptr,
                     std::span<const double> open = {}, std::stop_token stop = {});
 
-  // The punctual lights' light, before any patch shoots: per element the mean of
-  // punctual_irradiance() over its four quarter points.
-  void shine(std::span<const PunctualLight> lights, const RayScene& rays,
+  // The punctual lights' light and their images' in planar mirrors (punctual_sources()),
+  // before any patch shoots: per element the mean of punctual_irradiance() over its four
+  // quarter points.
+  void shine(std::span<const PunctualSource> lights, const RayScene& rays,
              std::stop_token stop = {});
 
   // Every later shot also shoots into `map` (TextureMode::Shoot); null detaches it.

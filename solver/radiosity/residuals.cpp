@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "solver/scene/geometry.h"
+#include "solver/scene/planar_mirror.h"
 #include "solver/scene/texture.h"
 
 namespace bumprad {
@@ -118,9 +118,11 @@ void Residuals::deliver(std::uint32_t source, std::span<const Arrival> arrivals,
   }
 }
 
-void Residuals::shine(std::span<const Arrival> arrivals, const Rgb& emitted, const Rgb& escaped) {
+void Residuals::shine(std::span<const Arrival> arrivals, const Rgb& emitted, const Rgb& escaped,
+                      const Rgb& reflected) {
   emitted_ += emitted;
   escaped_ += escaped;
+  absorbed_ -= reflected;
   for (const Arrival& a : arrivals) {
     const Element& e = mesh_.elements[a.element];
     const Rgb diffuse = reflectance_[a.element] * a.incident;

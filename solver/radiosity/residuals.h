@@ -68,10 +68,12 @@ class Residuals {
   // escaping.
   void deliver(const Shooting& shot, std::span<const VisibleElement> form_factors);
   // The punctual lights' light (no patch shot it): `emitted` joins the ledger, `escaped` is
-  // what met no element's front. All of it is direct light. Its diffuse part is reflected;
-  // a specular part is not queued (a point has no hemi-cube to reflect it from) and counts
-  // as absorbed.
-  void shine(std::span<const Arrival> arrivals, const Rgb& emitted, const Rgb& escaped);
+  // what met no element's front. All of it is direct light. Its diffuse part is reflected; a
+  // specular part is not queued (a point has no hemi-cube to reflect it from) and counts as
+  // absorbed, except `reflected`: what planar mirrors sent on as the lights' images, which
+  // `arrivals` include.
+  void shine(std::span<const Arrival> arrivals, const Rgb& emitted, const Rgb& escaped,
+             const Rgb& reflected);
   // Specular transfer's light, reflected by patch `source`, and what of it escaped.
   void deliver(std::uint32_t source, std::span<const Arrival> arrivals, const Rgb& escaped);
 

@@ -55,15 +55,10 @@ double power_heuristic(double a, double b) {
 
 Lights::Lights(const Mesh& mesh, std::span<const Material> materials,
                std::span<const PunctualLight> punctual)
-    : mesh_(mesh), punctual_(punctual.begin(), punctual.end()), epsilon_(ray_epsilon(mesh)) {
-  const std::vector<bool> mirror = planar_mirrors(mesh, materials);
-  std::vector<bool> listed(mesh.surface_count, false);
-  for (const Element& e : mesh.elements)
-    if (mirror[e.surface] && !listed[e.surface]) {
-      listed[e.surface] = true;
-      mirrors_.push_back(
-          {e.surface, e.centroid, e.normal, materials[std::size_t(e.material)].specular});
-    }
+    : mesh_(mesh),
+      mirrors_(planar_mirror_planes(mesh, materials)),
+      punctual_(punctual_sources(punctual, mirrors_)),
+      epsilon_(ray_epsilon(mesh)) {
   double total = 0;
   for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -189,17 +184,11 @@ Lights::Sample Lights::sample(Random& random) const {
           emitters_[i].emission};
 }
 
-bool Lights::visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+bool Lights::visible_through(const PlanarMirror& mirror, const Vec3& from, const Vec3& to_image,
                              const RayScene& rays) const {
-  Vec3 d = to_image - from;
+  const Vec3 d = to_image - from;
   const double distance = glm::length(d);
-  d /= distance;
-  auto hit = rays.intersect({from, d});
-  if (!hit || !hit->front || mesh_.elements[hit->element].surface != mirror.surface) return false;
-  const Vec3 on_mirror = from + hit->t * d;
-  const Vec3 r = d - 2 * glm::dot(d, mirror.normal) * mirror.normal;
-  return !rays.occluded({on_mirror + mirror.normal * epsilon_, r},
-                        distance - hit->t - 2 * epsilon_);
+  return mirror.shows(from, d / distance, distance, rays);
 }
 
 Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& rays,
@@ -210,7 +199,7 @@ Rgb Lights::next_event(const Vec3& from, const Vec3& normal, const RayScene& ray
 Rgb Lights::punctual_direct(const Vec3& x, const Vec3& normal, const Vec3& from,
                             const RayScene& rays) const {
   Rgb sum(0);
-  for (const PunctualLight& l : punctual_) sum += punctual_irradiance(l, x, normal, from, rays);
+  for (const PunctualSource& l : punctual_) sum += punctual_irradiance(l, x, normal, from, rays);
   return sum;
 }
 
@@ -236,7 +225,7 @@ Rgb Lights::area_next_event(const Vec3& from, const Vec3& normal, const RayScene
     if (!rays.occluded({from, (light.point - from) / distance}, distance - 2 * epsilon_))
       sum += emission * g;
   }
-  for (const Mirror& m : mirrors_) {
+  for (const PlanarMirror& m : mirrors_) {
     if (glm::dot(from - m.point, m.normal) <= 0 || glm::dot(light.point - m.point, m.normal) <= 0)
       continue;
     const Vec3 image = m.reflect(light.point);
@@ -256,7 +245,7 @@ double Lights::pdf_solid_angle(std::uint32_t element, double distance, double co
 
 bool Lights::planar_mirror(std::uint32_t surface) const {
   return std::any_of(mirrors_.begin(), mirrors_.end(),
-                     [&](const Mirror& m) { return m.surface == surface; });
+                     [&](const PlanarMirror& m) { return m.surface == surface; });
 }
 
 Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
@@ -265,7 +254,7 @@ Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const Pho
   const Sample light = sample(random);
   const Element& le = mesh_.elements[light.element];
   // One term: the point y (or its image) seen along d at `distance`, facing `facing`.
-  auto term = [&](const Vec3& y, const Vec3& facing, const Mirror* mirror) {
+  auto term = [&](const Vec3& y, const Vec3& facing, const PlanarMirror* mirror) {
     Vec3 d = y - from;
     const double distance = glm::length(d);
     d /= distance;
@@ -280,10 +269,20 @@ Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const Pho
            light_pdf;
   };
   double sum = term(light.point, le.normal, nullptr);
-  for (const Mirror& m : mirrors_)
+  for (const PlanarMirror& m : mirrors_)
     if (glm::dot(from - m.point, m.normal) > 0 && glm::dot(light.point - m.point, m.normal) > 0)
       sum += term(m.reflect(light.point), m.turn(le.normal), &m);
   return light.emission * sum;
+}
+
+Rgb Lights::glossy_punctual(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                            const RayScene& rays) const {
+  Rgb sum(0);
+  for (const PunctualSource& l : punctual_) {
+    const PunctualArrival a = punctual_arrival(l, from, geometric, from, rays);
+    if (a.irradiance != Rgb(0)) sum += a.irradiance * (kPi * lobe.pdf(a.toward));
+  }
+  return sum;
 }
 
 double Lights::lobe_weight(double lobe_pdf, std::uint32_t element, double distance,
@@ -303,7 +302,7 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
   double total = 0;
   auto consider = [&](const Group& g, std::span<const std::uint32_t> elements,
                       std::span<const double> cumulative, std::span<const Vec3> outline,
-                      const Mirror* mirror) {
+                      const PlanarMirror* mirror) {
     Vec3 point = g.point, facing = g.normal;
     corners.assign(outline.begin(), outline.end());
     if (mirror) {
@@ -320,7 +319,7 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
     total += share;
   };
   std::array<Vec3, 4> storage;
-  auto consider_group = [&](const Group& g, const Mirror* mirror) {
+  auto consider_group = [&](const Group& g, const PlanarMirror* mirror) {
     const Vec3 centre = mirror ? mirror->reflect(g.centre) : g.centre;
     if (g.elements.size() == 1 || glm::length(x - centre) > kGroupReach * g.radius) {
       consider(g, g.elements, g.cumulative, g.outline, mirror);
@@ -331,7 +330,7 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
                element_corners(mesh_, mesh_.elements[g.elements[k]], storage), mirror);
   };
   for (const Group& g : groups_) consider_group(g, nullptr);
-  for (const Mirror& m : mirrors_)
+  for (const PlanarMirror& m : mirrors_)
     if (glm::dot(x - m.point, m.normal) > 0)
       for (const Group& g : groups_) consider_group(g, &m);
   return total;
@@ -440,7 +439,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
                    const ShadowRays& shadow) const {
   const Vec3 from = x + geometric * epsilon_;
   Rgb sum(0);
-  for (const PunctualLight& l : punctual_) {
+  for (const PunctualSource& l : punctual_) {
     const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
     sum += a.irradiance * std::max(0.0, glm::dot(normal, a.toward));
   }
@@ -461,7 +460,7 @@ Rgb Lights::direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, con
 void Lights::direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays,
                             const ShadowRays& shadow, const SourceVisitor& visit) const {
   const Vec3 from = x + geometric * epsilon_;
-  for (const PunctualLight& l : punctual_) {
+  for (const PunctualSource& l : punctual_) {
     const PunctualArrival a = punctual_arrival(l, x, geometric, from, rays);
     if (a.irradiance != Rgb(0)) visit(a.irradiance, a.toward, {});
   }

@@ -16,6 +16,7 @@
 #include "solver/scene/geometry.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/phong_lobe.h"
+#include "solver/scene/planar_mirror.h"
 #include "solver/scene/punctual_light.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/scene/scene.h"
@@ -69,7 +70,8 @@ class Lights {
   Sample sample(Random& random) const;
 
   // The direct irradiance at `x` for shading normal `normal` (maybe a perturbed N') from the
-  // punctual lights (exact, one shadow ray each) and the emitters' own emission, in radiosity
+  // punctual lights and their images in planar mirrors (punctual_sources(): exact, one
+  // shadow ray each) and the emitters' own emission, in radiosity
   // units (sum over emitters l of E_l F(x -> l) V_l, W/m^2, before the receiver's
   // reflectance), plus k_s E_l F(x -> image of l) V for each planar mirror. F is exact
   // (Lambert, clipped to the plane of `normal`); V, the visible share (through the mirror,
@@ -86,15 +88,16 @@ class Lights {
   DirectForm direct_form(const Vec3& x, const Vec3& geometric, const RayScene& rays,
                          const ShadowRays& shadow) const;
   // What direct_form() sums, source by source, from the same rays: each punctual light's
-  // irradiance and unit direction (`polygon` empty), and each emitter or mirror image seen,
-  // its E V (k_s V for an image) and polygon, whose clipped form factor at N' is its F.
+  // (or its image's) irradiance and unit direction (`polygon` empty), and each emitter or
+  // mirror image seen, its E V (k_s V for an image) and polygon, whose clipped form factor
+  // at N' is its F.
   using SourceVisitor =
       std::function<void(const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon)>;
   void direct_sources(const Vec3& x, const Vec3& geometric, const RayScene& rays,
                       const ShadowRays& shadow, const SourceVisitor& visit) const;
 
   // Next-event estimation for the path tracer, unbiased: each punctual light's irradiance
-  // (deterministic), plus a point y on an emitter chosen by
+  // and its images' (deterministic), plus a point y on an emitter chosen by
   // power, E cos cos' / (pi r^2 pdf) if y is visible from `from`, plus the same through each
   // planar mirror (k_s times, to y's image): radiosity units, before the receiver's
   // reflectance. A path that leaves a diffuse surface and meets an emitter next, or after
@@ -111,6 +114,12 @@ class Lights {
   // fireflies of either alone.
   Rgb glossy_next_event(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
                         const RayScene& rays, Random& random) const;
+  // The punctual lights' highlights, straight and in planar mirrors, in the same units: pi I
+  // lobe.pdf(d) / r^2 for a point (d toward it, times a spot's cone), pi E lobe.pdf(d) for a
+  // directional light, if visible from `from`. No lobe ray ever meets a point, so this is the
+  // whole of their share, and deterministic.
+  Rgb glossy_punctual(const Vec3& from, const Vec3& geometric, const PhongLobe& lobe,
+                      const RayScene& rays) const;
   // The weight of a lobe direction (drawn with density `lobe_pdf`) that met emitter element
   // `element` after `distance` (through a planar mirror: the unfolded length), arriving at
   // cosine `cos_there` to the emitter's normal.
@@ -141,21 +150,13 @@ class Lights {
     Vec3 centre;    // of area
     double radius;  // the farthest outline corner from the centre
   };
-  struct Mirror {
-    std::uint32_t surface;
-    Vec3 point, normal;
-    double specular;  // k_s
-    Vec3 reflect(const Vec3& p) const { return p - 2 * glm::dot(p - point, normal) * normal; }
-    // A direction's mirror image (an emitter's normal, seen in the mirror).
-    Vec3 turn(const Vec3& d) const { return d - 2 * glm::dot(d, normal) * normal; }
-  };
   // An emitter group, or one of its elements, or either's image in a mirror, as a point sees
   // it for direct().
   struct Seen {
     std::span<const std::uint32_t> elements;
     std::span<const double> cumulative;
     const Group* group;
-    const Mirror* mirror;  // null: the emitter itself
+    const PlanarMirror* mirror;  // null: the emitter itself
     double form_factor;
     double share;  // k_s E F, channel sum: how many rays it gets
   };
@@ -181,17 +182,15 @@ class Lights {
   // Density per solid angle of sample() choosing a point on emitter element `element`
   // (0 for no emitter) seen at `distance` and cosine `cos_there` to its normal.
   double pdf_solid_angle(std::uint32_t element, double distance, double cos_there) const;
-  // Whether the point `to_image` (an emitter point's image in `mirror`) is seen from `from`
-  // through the mirror: the mirror is the first thing on the way, and the reflected ray
-  // reaches the emitter point.
-  bool visible_through(const Mirror& mirror, const Vec3& from, const Vec3& to_image,
+  // Whether `from` sees the point `to_image` (an emitter point's image) in `mirror`.
+  bool visible_through(const PlanarMirror& mirror, const Vec3& from, const Vec3& to_image,
                        const RayScene& rays) const;
 
   const Mesh& mesh_;
-  std::vector<PunctualLight> punctual_;
+  std::vector<PlanarMirror> mirrors_;
+  std::vector<PunctualSource> punctual_;  // the lights and their images in mirrors_
   std::vector<Emitter> emitters_;
   std::vector<Group> groups_;
-  std::vector<Mirror> mirrors_;
   std::vector<double> cumulative_;  // by power, normalised
   double total_power_ = 0;          // sum of area times E's channel sum
   double epsilon_;

@@ -12,6 +12,7 @@
 #include "solver/scene/camera.h"
 #include "solver/scene/geometry.h"
 #include "solver/scene/phong_lobe.h"
+#include "solver/scene/planar_mirror.h"
 #include "solver/scene/texture.h"
 #include "solver/util/frame.h"
 #include "solver/util/parallel.h"
@@ -85,7 +86,10 @@ class PathTracer {
         const Vec3 mirror = glm::reflect(ray.direction, normal);
         if (m.shininess > 0) {
           const PhongLobe lobe(mirror, normal, m.shininess);
-          sum += throughput * lights_.glossy_next_event(from, e.normal, lobe, rays_, random) / kPi;
+          sum += throughput *
+                 (lights_.glossy_punctual(from, e.normal, lobe, rays_) +
+                  lights_.glossy_next_event(from, e.normal, lobe, rays_, random)) /
+                 kPi;
           Vec3 d;
           if (!lobe.sample(random, d)) break;
           ray = {from, d};

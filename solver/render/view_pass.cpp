@@ -159,7 +159,8 @@ class Tracer {
   // k_s times what the surface reflects (second pass): a mirror follows one ray, a glossy
   // surface samples its Phong lobe at the first glossy bounce (one ray after that). With
   // exact direct light a glossy surface also samples the emitters and their images in
-  // planar mirrors (Lights::glossy_next_event), and a lobe ray counts the emission it meets
+  // planar mirrors (Lights::glossy_next_event), adds the punctual lights' highlights
+  // (Lights::glossy_punctual), and a lobe ray counts the emission it meets
   // straight or after one planar mirror with the lobe's weight. `bumped` is set when a
   // surface on the way is bumpy. `shadow`: the first hit's shadow rays (the camera ray's);
   // later hits draw their own.
@@ -196,7 +197,8 @@ class Tracer {
     }
     const int samples = lobe_ray.pdf > 0 ? 1 : std::max(1, camera_.glossy_samples);
     const PhongLobe lobe(r, p.normal, m->shininess);
-    Rgb sum(0);
+    Rgb sum =
+        lights ? lights->glossy_punctual(from, e.normal, lobe, rays_) * double(samples) : Rgb(0);
     for (int s = 0; s < samples; ++s) {
       if (lights) sum += lights->glossy_next_event(from, e.normal, lobe, rays_, rng);
       Vec3 d;

@@ -136,18 +136,4 @@ bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatnes
   return true;
 }
 
-std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials) {
-  std::vector<bool> mirror(mesh.surface_count, true);
-  std::vector<std::vector<std::uint32_t>> elements(mesh.surface_count);
-  for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
-    const Element& e = mesh.elements[i];
-    const Material& m = materials[std::size_t(e.material)];
-    mirror[e.surface] = mirror[e.surface] && m.specular > 0 && m.shininess == 0;
-    elements[e.surface].push_back(i);
-  }
-  for (std::uint32_t s = 0; s < mesh.surface_count; ++s)
-    mirror[s] = mirror[s] && !elements[s].empty() && coplanar(mesh, elements[s], kOnePlane);
-  return mirror;
-}
-
 }  // namespace bumprad

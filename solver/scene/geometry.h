@@ -91,8 +91,4 @@ inline constexpr Flatness kNearlyFlat{0.0141, 1e300};
 // `tolerance`.
 bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatness tolerance);
 
-// Per mesh surface: is it a planar mirror (k_s > 0, shininess 0, all its elements in one
-// plane)? Light from an emitter's image in one is direct light.
-std::vector<bool> planar_mirrors(const Mesh& mesh, std::span<const Material> materials);
-
 }  // namespace bumprad

@@ -22,15 +22,41 @@ double cone(const PunctualLight& l, const Vec3& toward) {
   return t * t;
 }
 
+// Whether the light `distance` along unit `d` from `from` reaches it (infinity: a directional
+// light; anything on the way, however far, shades the point).
+bool seen(const PunctualSource& s, const Vec3& from, const Vec3& d, double distance,
+          const RayScene& rays) {
+  return s.mirror ? s.mirror->shows(from, d, distance, rays) : !rays.occluded({from, d}, distance);
+}
+
 }  // namespace
 
-PunctualArrival punctual_arrival(const PunctualLight& l, const Vec3& x, const Vec3& facing,
+std::vector<PunctualSource> punctual_sources(std::span<const PunctualLight> lights,
+                                             std::span<const PlanarMirror> mirrors) {
+  std::vector<PunctualSource> sources;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    const PunctualLight& l = lights[i];
+    sources.push_back({l, i, std::nullopt});
+    for (const PlanarMirror& m : mirrors) {
+      const bool directional = l.kind == PunctualLight::Kind::Directional;
+      if (directional ? !(glm::dot(l.direction, m.normal) < 0) : !m.in_front(l.position)) continue;
+      PunctualLight image = l;
+      image.position = m.reflect(l.position);
+      image.direction = m.turn(l.direction);
+      image.intensity = l.intensity * m.specular;
+      sources.push_back({image, i, m});
+    }
+  }
+  return sources;
+}
+
+PunctualArrival punctual_arrival(const PunctualSource& s, const Vec3& x, const Vec3& facing,
                                  const Vec3& from, const RayScene& rays) {
+  const PunctualLight& l = s.light;
   if (l.kind == PunctualLight::Kind::Directional) {
     const Vec3 toward = -l.direction;
     if (!(glm::dot(facing, toward) > 0)) return {toward, Rgb(0)};
-    // Anything on the way toward the light, however far, shades the point.
-    if (rays.occluded({from, toward}, std::numeric_limits<double>::infinity()))
+    if (!seen(s, from, toward, std::numeric_limits<double>::infinity(), rays))
       return {toward, Rgb(0)};
     return {toward, l.intensity};
   }
@@ -43,12 +69,12 @@ PunctualArrival punctual_arrival(const PunctualLight& l, const Vec3& x, const Ve
   if (!(falloff > 0)) return {d, Rgb(0)};
   const Vec3 to = l.position - from;
   const double distance = glm::length(to);
-  if (rays.occluded({from, to / distance}, distance)) return {d, Rgb(0)};
+  if (!seen(s, from, to / distance, distance, rays)) return {d, Rgb(0)};
   return {d, l.intensity * (falloff / r2)};
 }
 
-Rgb punctual_irradiance(const PunctualLight& l, const Vec3& x, const Vec3& normal, const Vec3& from,
-                        const RayScene& rays) {
+Rgb punctual_irradiance(const PunctualSource& l, const Vec3& x, const Vec3& normal,
+                        const Vec3& from, const RayScene& rays) {
   const PunctualArrival a = punctual_arrival(l, x, normal, from, rays);
   return a.irradiance * std::max(0.0, glm::dot(normal, a.toward));
 }

@@ -31,6 +31,7 @@ class RayScene {
   std::optional<Hit> intersect(const Ray& ray) const;
   // Whether anything lies on the ray before `distance` (a shadow ray); thread-safe too.
   bool occluded(const Ray& ray, double distance) const;
+  const Mesh& mesh() const { return mesh_; }
 
  private:
   const Mesh& mesh_;
