@@ -189,6 +189,17 @@ TEST(PunctualLight, ShoneThroughAWindowTheSunLightsTheWindowsAreaOfFloor) {
   }
 }
 
+// The path tracer's image at 1,024 paths a pixel over the view pass's `image`: the ratio of
+// their sums (green).
+double traced_over_rendered(const Scene& s, const Solution& solution, const Image& image) {
+  ReferenceSettings reference;
+  reference.samples_per_pixel = 1024;
+  const Image traced = render_reference(s, *solution.mesh, *solution.rays, reference);
+  double a = 0, b = 0;
+  for (std::size_t i = 1; i < image.rgb.size(); i += 3) a += image.rgb[i], b += traced.rgb[i];
+  return b / a;
+}
+
 // The floor [-2, 1] x [-2, 2] (12 x 16 elements of 0.25, rho 0.5) under a point light 2 above
 // the origin, I = 10 W/sr, beside a mirror (k_s 0.8, 2 high) standing in x = 1, facing the
 // light: the light's image 2 above (2, 0) lights the floor too, with 0.8 I, through the
@@ -261,12 +272,7 @@ TEST(PunctualLight, TheViewPassAndThePathTracerAgreeBesideAMirror) {
   s.camera.width = s.camera.height = 9;
   const Solution solution = solve(s);
   const Image image = render(s, solution);
-  ReferenceSettings reference;
-  reference.samples_per_pixel = 1024;
-  const Image traced = render_reference(s, *solution.mesh, *solution.rays, reference);
-  double a = 0, b = 0;
-  for (std::size_t i = 1; i < image.rgb.size(); i += 3) a += image.rgb[i], b += traced.rgb[i];
-  EXPECT_NEAR(b / a, 1, 0.02);
+  EXPECT_NEAR(traced_over_rendered(s, solution, image), 1, 0.02);
 }
 
 TEST(PunctualLight, ASunsImageInAMirrorIsAParallelBeam) {
@@ -336,12 +342,7 @@ TEST(PunctualLight, TheViewPassShowsAPointLightExactly) {
   // The path tracer (the ground truth the error estimate uses) agrees: its next event takes
   // the exact term, and Russian roulette keeps half the paths (rho 0.5), so over 81 pixels
   // of 1,024 paths the sums agree to about 0.35 % (one standard error); bound 2 %.
-  ReferenceSettings reference;
-  reference.samples_per_pixel = 1024;
-  const Image traced = render_reference(s, *solution.mesh, *solution.rays, reference);
-  double a = 0, b = 0;
-  for (std::size_t i = 1; i < image.rgb.size(); i += 3) a += image.rgb[i], b += traced.rgb[i];
-  EXPECT_NEAR(b / a, 1, 0.02);
+  EXPECT_NEAR(traced_over_rendered(s, solution, image), 1, 0.02);
 }
 
 }  // namespace
