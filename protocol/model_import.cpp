@@ -168,12 +168,22 @@ class Reader {
     Rgb radiance = double(strength) * Rgb(emissive.r, emissive.g, emissive.b);
     if (auto image = texture(m, {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}, what,
                              PixelMeaning::Color)) {
-      // Emission is one value a material: the texture's mean, so the power is the file's.
-      radiance *= image_mean(*image);
+      // The surface emits the texture's mean evenly, so its power is the file's, and shows
+      // the texture itself (scaled to mean 1: Material::emission_texture).
+      const Rgb mean = image_mean(*image);
+      radiance *= mean;
+      for (std::size_t i = 0; i < image->rgb.size(); ++i) {
+        const double c = mean[int(i % 3)];
+        image->rgb[i] = c > 0 ? float(image->rgb[i] / c) : 0.0f;
+      }
+      ColorTexture t;
+      t.kind = ColorTexture::Kind::Image;
+      t.image = std::move(image);
+      out.emission_texture = std::move(t);
       material_warnings_.back().push_back(
           what +
-          ": its emissive texture is read as its mean (emission is uniform over a "
-          "surface)");
+          ": its emissive texture is shown, but the light it sends is its mean, evenly over "
+          "the surface");
     }
     // Every surface in bumprad is opaque: a cut-out (MASK) or see-through (BLEND) part
     // casts its whole shadow and shows its colour.

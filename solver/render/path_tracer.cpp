@@ -54,15 +54,15 @@ class PathTracer {
       if (!hit || !hit->front) break;  // one-sided surfaces: a back face absorbs
       const Element& e = mesh_.elements[hit->element];
       const Material& m = scene_.materials[std::size_t(e.material)];
+      const SurfaceAt s = surface_at(mesh_, e, hit->u, hit->v);
       if (since == Since::Camera || since == Since::Uncovered)
-        sum += throughput * m.emission / kPi;
+        sum += throughput * emission_at(m, s.uv) / kPi;
       else if ((since == Since::Glossy || since == Since::GlossyMirror) && m.emission != Rgb(0))
         sum += throughput * m.emission *
                (lights_.lobe_weight(lobe_pdf, hit->element, travelled + hit->t,
                                     -glm::dot(e.normal, ray.direction)) /
                 kPi);
 
-      const SurfaceAt s = surface_at(mesh_, e, hit->u, hit->v);
       Vec3 normal = s.normal;
       if (const int b = scene_.objects[e.object].bump; b >= 0)
         normal = bumped_normal(scene_.bumps[std::size_t(b)], s.uv, s.normal, s.dpdu, s.dpdv);

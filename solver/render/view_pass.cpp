@@ -258,13 +258,15 @@ class Tracer {
     return near_->correction(e, s.weights, x, s.normal, m.reflectance, vertex_);
   }
 
-  // Colour texture: B = E + (B - E) rho(u,v) / mean.
+  // Colour texture: B = E + (B - E) rho(u,v) / mean; an emission texture shows E(u,v).
   Rgb textured(const Element& e, glm::dvec2 uv, const Rgb& b) const {
     if (detail_.materials.empty()) return b;
     const Material& m = detail_.materials[std::size_t(e.material)];
-    if (!m.texture) return b;
-    const Rgb rho = texture_reflectance(*m.texture, uv) * texture_scale_[std::size_t(e.material)];
-    return m.emission + glm::max(b - m.emission, Rgb(0)) * rho;
+    if (!m.texture && !m.emission_texture) return b;
+    const Rgb rho =
+        m.texture ? texture_reflectance(*m.texture, uv) * texture_scale_[std::size_t(e.material)]
+                  : Rgb(1);
+    return emission_at(m, uv) + glm::max(b - m.emission, Rgb(0)) * rho;
   }
 
   const Mesh& mesh_;

@@ -80,6 +80,9 @@ struct Material {
   double specular = 0;
   double shininess = 0;  // 0 means a perfect mirror
   std::optional<ColorTexture> texture;
+  // What the camera sees of the emission: E times this texture's colour at (u,v), whose mean
+  // is 1 (a model's emissive texture). The light the surface sends is E, evenly.
+  std::optional<ColorTexture> emission_texture;
 };
 
 // How finely one object is meshed. A count of 0 means "derive from element_size"; an

@@ -43,6 +43,11 @@ Rgb texture_reflectance(const ColorTexture& t, glm::dvec2 uv) {
   return t.colors[std::size_t(parity)];
 }
 
+Rgb emission_at(const Material& m, glm::dvec2 uv) {
+  return m.emission_texture ? m.emission * texture_reflectance(*m.emission_texture, uv)
+                            : m.emission;
+}
+
 Rgb texture_mean(const ColorTexture& t) {
   if (t.kind == ColorTexture::Kind::Checker) return (t.colors[0] + t.colors[1]) / 2.0;
   return image_mean(*t.image);

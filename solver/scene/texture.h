@@ -16,8 +16,11 @@ namespace bumprad {
 // Bilinear at p in image units ([0,1]^2 spans the image once, y down the rows).
 Rgb sample_image(const Image& image, glm::dvec2 p, Wrap wrap);
 
-// The texture's reflectance at surface coordinates uv.
+// The texture's reflectance at surface coordinates uv (its colour, for an emission texture).
 Rgb texture_reflectance(const ColorTexture& texture, glm::dvec2 uv);
+
+// The emission the camera sees at uv: E, times the emission texture there if there is one.
+Rgb emission_at(const Material& material, glm::dvec2 uv);
 
 // Its mean reflectance over the whole texture.
 Rgb texture_mean(const ColorTexture& texture);

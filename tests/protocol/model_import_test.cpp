@@ -22,6 +22,7 @@
 #include "solver/render/error_estimate.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
+#include "solver/scene/texture.h"
 #include "solver/solution.h"
 #include "solver/util/image.h"
 #include "tests/test_files.h"
@@ -398,11 +399,15 @@ TEST(ModelImport, MetalNormalMapsAndEmissiveTextures) {
   EXPECT_EQ(m.reflectance, Rgb(0));
   EXPECT_NEAR(m.specular, (0.8 + 0.6 + 0.2) / 3, 1e-6);
   EXPECT_NEAR(m.shininess, 30, 1e-9);
-  // Emission: pi x factor x the texture's mean, with a warning that it is uniform.
+  // Emission: pi x factor x the texture's mean, with a warning that it is sent evenly; the
+  // texture itself, scaled to mean 1, is what the camera sees.
   EXPECT_NEAR(glm::length(m.emission - std::numbers::pi * 2 * Rgb(0.5, 0.25, 1)), 0, 1e-3);
+  ASSERT_TRUE(m.emission_texture);
+  EXPECT_NEAR(glm::length(texture_mean(*m.emission_texture) - Rgb(1)), 0, 1e-6);
   EXPECT_TRUE(std::any_of(model.warnings.begin(), model.warnings.end(), [](const std::string& w) {
-    return w.find("material \"brass\": its emissive texture is read as its mean") !=
-           std::string::npos;
+    return w.find(
+               "material \"brass\": its emissive texture is shown, but the light it sends "
+               "is its mean") != std::string::npos;
   }));
   ASSERT_EQ(model.bumps.size(), 1u);
   EXPECT_EQ(model.objects[0].bump, 0);

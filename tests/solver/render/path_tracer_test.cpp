@@ -126,6 +126,23 @@ TEST(PathTracer, AGlossyHighlightIsExactAndQuiet) {
   EXPECT_LT(spread.scatter, 0.1);
 }
 
+// An emission texture is what the camera sees of an emitter: E times its colour there
+// (the light it sends stays E, evenly). A 4 x 4 emitter, its left half at 0.5 E, its right
+// at 1.5 E, alone: each half's radiance is that over pi (to the image's single precision),
+// at any path count.
+TEST(PathTracer, AnEmissionTextureIsWhatTheCameraSees) {
+  Scene s;
+  s.materials = {material(0.5, 2)};
+  s.materials[0].emission_texture = ColorTexture{};
+  s.materials[0].emission_texture->colors = {Rgb(0.5), Rgb(1.5)};
+  s.materials[0].emission_texture->scale = {2, 1};  // u < 1/2 and u > 1/2
+  s.objects = {rectangle(Vec3(0), 4, 4, true, 0)};
+  for (const double x : {-1.0, 1.0}) {
+    s.camera = pointing(Vec3(x, -1, 2), Vec3(x, 0, 0));
+    EXPECT_NEAR(mean(trace(s, 4)).g, 2 * (x < 0 ? 0.5 : 1.5) / kPi, 1e-6) << x;  // floats
+  }
+}
+
 TEST(PathTracer, TheImageIsAFunctionOfTheSeed) {
   Scene s;
   s.materials = {material(0.5, 0), material(0, 10)};

@@ -223,6 +223,31 @@ TEST(ViewPass, ACheckerReflectsTheLightArrivingWithItsColourPerPixel) {
   }
 }
 
+// An emission texture shows E(u,v) where the solve's E was uniform, and the reflected light
+// on top as it is: each square shows its share of E plus rho 5, also next to the other.
+TEST(ViewPass, AnEmissionTextureShowsItsColourPerPixel) {
+  Mesh m = two_element_quad();
+  RayScene rays(m);
+  Material mat;
+  mat.reflectance = Rgb(0.4);
+  mat.emission = Rgb(0.5);
+  mat.emission_texture = ColorTexture{};
+  mat.emission_texture->colors = {Rgb(0.5), Rgb(1.5)};
+  mat.emission_texture->scale = {2, 1};
+  const std::vector<Material> materials = {mat};
+  SurfaceDetail detail;
+  detail.materials = materials;
+  const std::vector<Rgb> b = {Rgb(0.5 + 0.4 * 5), Rgb(0.5 + 0.4 * 5)};
+  Camera cam = facing(3);
+  Image img = render_view(m, rays, cam, b, detail);
+  for (int dx : {1, 8, 16}) {
+    EXPECT_NEAR(img.at(cam.width / 2 - dx, cam.height / 2).r * std::numbers::pi,
+                0.5 * 0.5 + 0.4 * 5, 1e-5);
+    EXPECT_NEAR(img.at(cam.width / 2 + dx - 1, cam.height / 2).r * std::numbers::pi,
+                0.5 * 1.5 + 0.4 * 5, 1e-5);
+  }
+}
+
 // A specular quad (material 0) in z = 0 facing the camera at z = 3, and behind the camera
 // a quad at z = 5 facing it (material 1) reaching from x = -9 to `target_right`. Element
 // radiosity: 0 on the first, 2 on the target.
