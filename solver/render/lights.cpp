@@ -371,8 +371,7 @@ void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, con
     for (const Seen& s : seen) {
       const std::uint64_t source = (std::uint64_t(s.elements.front()) << 16) ^
                                    std::uint64_t(s.mirror ? s.mirror - mirrors_.data() + 1 : 0);
-      Random shift(hash64(shadow.scramble ^ hash64(source)));
-      const Sobol02 points(shift);
+      const Sobol02 points(hash64(shadow.scramble ^ hash64(source)));
       auto hits_in = [&](int first, int end) {
         int hits = 0;
         for (int r = first; r < end; ++r) {
@@ -399,8 +398,7 @@ void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, con
   reached.clear();
   for (const Seen& s : seen) reached.push_back((reached.empty() ? 0 : reached.back()) + s.share);
   slot.assign(seen.size(), std::size_t(-1));
-  Random shift(hash64(shadow.scramble));
-  const Sobol02 points(shift);
+  const Sobol02 points(hash64(shadow.scramble));
   int arrived = 0;
   auto cast = [&](int first, int end) {
     for (int r = first; r < end; ++r) {

@@ -67,6 +67,11 @@ class MersenneTwister {
 class Sobol02 {
  public:
   explicit Sobol02(Random& random) : shift_x_(random.bits()), shift_y_(random.bits()) {}
+  // Shifted by the first draws of a Random seeded with `seed`.
+  explicit Sobol02(std::uint64_t seed) {
+    Random random(seed);
+    *this = Sobol02(random);
+  }
   std::pair<double, double> operator[](std::uint32_t i) const {
     std::uint32_t x = i, y = 0;
     x = (x << 16) | (x >> 16);  // bit reversal: the radical inverse of i in base 2
@@ -80,7 +85,7 @@ class Sobol02 {
   }
 
  private:
-  std::uint32_t shift_x_, shift_y_;
+  std::uint32_t shift_x_ = 0, shift_y_ = 0;
 };
 
 }  // namespace bumprad
