@@ -443,6 +443,32 @@ std::uint64_t cluster_key(const Vec3& centroid, const Vec3& facing, double cell)
   return key;
 }
 
+// The triangles of `m` by the plane they lie in (normal to 1e-4, offset to 1e-3 of the
+// element size, so that a face cut into many triangles from single-precision data is one),
+// in the order each plane first appears. Degenerate ones stand alone.
+std::vector<std::vector<std::size_t>> coplanar_sets(const TriangleMeshShape& m, double size) {
+  std::map<std::array<std::int64_t, 4>, std::size_t> index;
+  std::vector<std::vector<std::size_t>> sets;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    const auto& tri = m.triangles[t];
+    const Vec3 a = m.positions[tri[0]];
+    const Vec3 cross = glm::cross(m.positions[tri[1]] - a, m.positions[tri[2]] - a);
+    const double length = glm::length(cross);
+    if (!(length > 0)) {
+      sets.push_back({t});
+      continue;
+    }
+    const Vec3 n = cross / length;
+    const std::array<std::int64_t, 4> key = {std::llround(n.x * 1e4), std::llround(n.y * 1e4),
+                                             std::llround(n.z * 1e4),
+                                             std::llround(glm::dot(n, a) / (size * 1e-3))};
+    const auto [it, inserted] = index.try_emplace(key, sets.size());
+    if (inserted) sets.emplace_back();
+    sets[it->second].push_back(t);
+  }
+  return sets;
+}
+
 // Each input triangle is split into n^2 triangles on a barycentric grid (i, j); row j holds
 // n + 1 - j vertices. Patches group neighbouring elements across triangles (cluster_key, in
 // cubes of k element sizes), on faceted meshes too. A triangle at most one element size
@@ -521,10 +547,16 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
       emit(t, grids[t]);
     }
   } else {
-    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+    // A faceted mesh: the triangles of one plane (a box's face, however finely cut) make one
+    // surface, welded where they meet, so light is interpolated across the face, not flat
+    // per triangle, and only the creases between planes are creases (near_field.h).
+    for (const std::vector<std::size_t>& plane : coplanar_sets(m, size)) {
       if (sb.stopped()) return;
       sb.begin_surface();
-      emit(t, add_grid(m.triangles[t]));
+      std::vector<TriangleGrid> grids;
+      for (std::size_t t : plane) grids.push_back(add_grid(m.triangles[t]));
+      sb.weld(!m.uvs.empty(), !m.normals.empty());
+      for (std::size_t i = 0; i < plane.size(); ++i) emit(plane[i], grids[i]);
     }
   }
   sb.flush();

@@ -131,24 +131,35 @@ TEST(Mesh, CylinderSideAndCapsShareTheRimButNotTheCrease) {
   }
 }
 
-TEST(Mesh, TriangleMeshSubdividesAndWeldsWhenSmooth) {
+// Smooth meshes weld everywhere; faceted ones within each plane, so a flat face cut into
+// triangles is one surface lit continuously, and a fold stays a crease.
+TEST(Mesh, TriangleMeshSubdividesAndWeldsWithinAPlaneOrWhenSmooth) {
   TriangleMeshShape t;
   t.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
   t.triangles = {{0, 1, 2}, {0, 2, 3}};
+  auto used_vertices = [](const Mesh& m) {
+    std::vector<int> uses(m.vertices.size(), 0);
+    for (const Element& e : m.elements)
+      for (int k = 0; k < e.vertex_count; ++k) uses[e.v[std::size_t(k)]]++;
+    return std::count_if(uses.begin(), uses.end(), [](int u) { return u > 0; });
+  };
   for (bool smooth : {false, true}) {
     t.smooth = smooth;
+    t.positions[3].z = 0;
     Mesh m = build_mesh(one(t, {0, {3, 0}, 0}));
     EXPECT_EQ(m.elements.size(), 18u);
     EXPECT_NEAR(total_area(m), 1.0, 1e-12);
-    std::vector<int> uses(m.vertices.size(), 0);
     for (const Element& e : m.elements) {
       EXPECT_EQ(e.vertex_count, 3);
       EXPECT_NEAR(e.normal.z, 1, 1e-12);
-      for (int k = 0; k < 3; ++k) uses[e.v[k]]++;
     }
-    int used = 0;
-    for (int u : uses) used += u > 0;
-    EXPECT_EQ(used, smooth ? 16 : 20);  // the diagonal's 4 points shared, or not
+    EXPECT_EQ(m.surface_count, 1u);
+    EXPECT_EQ(used_vertices(m), 16);  // the diagonal's 4 points shared
+    // Folded along the diagonal: two planes, a crease unless smooth.
+    t.positions[3].z = 0.5;
+    m = build_mesh(one(t, {0, {3, 0}, 0}));
+    EXPECT_EQ(m.surface_count, smooth ? 1u : 2u);
+    EXPECT_EQ(used_vertices(m), smooth ? 16 : 20);
   }
 }
 
