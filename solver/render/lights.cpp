@@ -226,8 +226,7 @@ Rgb Lights::area_next_event(const Vec3& from, const Vec3& normal, const RayScene
       sum += emission * g;
   }
   for (const PlanarMirror& m : mirrors_) {
-    if (glm::dot(from - m.point, m.normal) <= 0 || glm::dot(light.point - m.point, m.normal) <= 0)
-      continue;
+    if (!m.in_front(from) || !m.in_front(light.point)) continue;
     const Vec3 image = m.reflect(light.point);
     const Vec3 facing = m.turn(le.normal);
     if (const double g = term(image, facing); g > 0 && visible_through(m, from, image, rays))
@@ -270,7 +269,7 @@ Rgb Lights::glossy_next_event(const Vec3& from, const Vec3& geometric, const Pho
   };
   double sum = term(light.point, le.normal, nullptr);
   for (const PlanarMirror& m : mirrors_)
-    if (glm::dot(from - m.point, m.normal) > 0 && glm::dot(light.point - m.point, m.normal) > 0)
+    if (m.in_front(from) && m.in_front(light.point))
       sum += term(m.reflect(light.point), m.turn(le.normal), &m);
   return light.emission * sum;
 }
@@ -306,7 +305,7 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
     Vec3 point = g.point, facing = g.normal;
     corners.assign(outline.begin(), outline.end());
     if (mirror) {
-      if (glm::dot(point - mirror->point, mirror->normal) <= 0) return;  // behind it
+      if (!mirror->in_front(point)) return;  // behind it
       point = mirror->reflect(point);
       facing = mirror->turn(facing);
       for (Vec3& c : corners) c = mirror->reflect(c);
@@ -331,7 +330,7 @@ double Lights::seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& s
   };
   for (const Group& g : groups_) consider_group(g, nullptr);
   for (const PlanarMirror& m : mirrors_)
-    if (glm::dot(x - m.point, m.normal) > 0)
+    if (m.in_front(x))
       for (const Group& g : groups_) consider_group(g, &m);
   return total;
 }

@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <numbers>
+#include <numeric>
 #include <optional>
 #include <tuple>
 #include <unordered_set>
@@ -534,29 +535,28 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
       }
     return g;
   };
+  // A smooth mesh is one surface, welded throughout. A faceted one makes a surface of the
+  // triangles of each plane (a box's face, however finely cut), welded where they meet, so
+  // light is interpolated across the face, not flat per triangle, and only the creases
+  // between planes are creases (near_field.h).
+  std::vector<std::vector<std::size_t>> surfaces;
   if (m.smooth) {
+    surfaces.emplace_back(m.triangles.size());
+    std::iota(surfaces.back().begin(), surfaces.back().end(), std::size_t(0));
+  } else {
+    surfaces = coplanar_sets(m, size);
+  }
+  for (const std::vector<std::size_t>& triangles : surfaces) {
     sb.begin_surface();
     std::vector<TriangleGrid> grids;
-    for (const auto& t : m.triangles) {
+    for (std::size_t t : triangles) {
       if (sb.stopped()) return;
-      grids.push_back(add_grid(t));
+      grids.push_back(add_grid(m.triangles[t]));
     }
     sb.weld(!m.uvs.empty(), !m.normals.empty());
-    for (std::size_t t = 0; t < grids.size(); ++t) {
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
       if (sb.stopped()) return;
-      emit(t, grids[t]);
-    }
-  } else {
-    // A faceted mesh: the triangles of one plane (a box's face, however finely cut) make one
-    // surface, welded where they meet, so light is interpolated across the face, not flat
-    // per triangle, and only the creases between planes are creases (near_field.h).
-    for (const std::vector<std::size_t>& plane : coplanar_sets(m, size)) {
-      if (sb.stopped()) return;
-      sb.begin_surface();
-      std::vector<TriangleGrid> grids;
-      for (std::size_t t : plane) grids.push_back(add_grid(m.triangles[t]));
-      sb.weld(!m.uvs.empty(), !m.normals.empty());
-      for (std::size_t i = 0; i < plane.size(); ++i) emit(plane[i], grids[i]);
+      emit(triangles[i], grids[i]);
     }
   }
   sb.flush();
