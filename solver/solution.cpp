@@ -11,7 +11,6 @@
 #include "solver/scene/planar_mirror.h"
 #include "solver/scene/subdivision.h"
 #include "solver/util/parallel.h"
-#include "solver/util/random.h"
 
 namespace bumprad {
 namespace {
@@ -267,7 +266,7 @@ std::vector<Rgb> map_light(const Scene& scene, const Solution& solution) {
     std::vector<double> values(n);
     std::vector<Vec3> local;
     lights.direct_sources(
-        v.position, normal, *solution.rays, ShadowRays{kMapShadowRays, hash64(s)},
+        v.position, normal, *solution.rays, ShadowRays{kMapShadowRays},
         [&](const Rgb& weight, const Vec3& toward, std::span<const Vec3> polygon) {
           if (polygon.empty()) {
             basis.project(frame.to_local(toward), values);

@@ -47,7 +47,9 @@ struct DirectForm {
 // and each takes its own blocks of the sequence (this is hit `hit` of `hits`), so that
 // together they stratify a source as one net of hits x count points: over a penumbra a pixel
 // then averages its rays as well spread as that many can be, where a shift of each hit's own
-// would leave `hits` nets of `count` points each, and twice the noise.
+// would leave `hits` nets of `count` points each, and twice the noise. The view pass and the
+// map's vertices use one scramble everywhere, so that neighbours differ as the light does
+// rather than as their points do.
 struct ShadowRays {
   int count = 4;
   std::uint64_t scramble = 0;

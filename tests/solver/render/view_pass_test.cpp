@@ -334,12 +334,6 @@ TEST(ViewPass, AntialiasingAveragesSubpixels) {
   EXPECT_TRUE(partial);
 }
 
-}  // namespace
-}  // namespace bumprad
-
-namespace bumprad {
-namespace {
-
 // Exact direct light shades each pixel with the bump's own perturbed normal N': a wrinkled
 // floor lit at grazing incidence (a wall lamp beside it, 60-80 degrees off the floor's
 // normal) shows rho E F(x, N') / pi at every pixel, Lambert's closed form, so the bumps'
@@ -390,6 +384,67 @@ TEST(ViewPass, ExactDirectLightShadesBumpsWithTheirPerturbedNormals) {
       highest = std::max(highest, expected);
     }
   EXPECT_LT(lowest, 0.5 * highest) << "the bumps show";
+}
+
+// Speckle: a 1 m lamp 1 above a floor and a 0.1 m bar halfway between them, seen from
+// above at one sample a pixel (a draft's, a walkthrough's); along a row across the bar's
+// penumbrae, the pixel-to-pixel part (second difference) of the image minus the exact direct
+// light (the lamp's unblocked part, Lambert's closed form), over the mean direct light. Every
+// pixel's shadow rays follow the same stratified points, so neighbouring pixels see the lamp
+// through alike rays and differ as the light does, up to the steps of a finite count:
+// measured 4.3 % (3.9-5.6 % over ten shifts of the points), where each pixel's own shift
+// left 18.5 %. (At 2 x 2 samples, 4 x 4 where they disagree: 0.85-2.3 % against 2.0 %.)
+TEST(ViewPass, PenumbraeHaveNoSpeckle) {
+  Scene s = test::scene_of(
+      {test::quad({Vec3(-2, -2, 0), Vec3(2, -2, 0), Vec3(2, 2, 0), Vec3(-2, 2, 0)}, 8, 8),
+       test::quad(
+           {Vec3(-0.05, -2, 0.5), Vec3(0.05, -2, 0.5), Vec3(0.05, 2, 0.5), Vec3(-0.05, 2, 0.5)}, 1,
+           8),
+       test::quad(test::rectangle_facing_down(1, 1, 1), 2, 2, 1)},
+      0.5);
+  Material lamp;
+  lamp.reflectance = Rgb(0);
+  lamp.emission = Rgb(4);
+  s.materials.push_back(lamp);
+  s.solver.max_shots = 8;
+  s.camera.position = Vec3(0, 0, 0.9);
+  s.camera.look_at = Vec3(0);
+  s.camera.fov_y_deg = 4.8;  // the row spans x in [-0.6, 0.6]
+  s.camera.width = 128;
+  s.camera.height = 8;
+  s.camera.antialias = 1;
+  const Solution solution = solve(s);
+  const Image image = render(s, solution);
+  const PinholeCamera pinhole(s.camera);
+  const int y = s.camera.height / 2;
+  std::vector<double> off, exact;
+  for (int x = 0; x < s.camera.width; ++x) {
+    const Ray ray = pinhole.ray(x + 0.5, y + 0.5);
+    const Vec3 p = ray.origin + ray.direction * (-ray.origin.z / ray.direction.z);
+    if (std::abs(p.x) < 0.13) continue;  // the bar (seen from above) and its edges
+    // From p the bar hides the lamp's strip between the lines through its two edges.
+    const double lo = std::clamp(-p.x - 0.1, -0.5, 0.5), hi = std::clamp(-p.x + 0.1, -0.5, 0.5);
+    const std::array<Vec3, 4> all = {Vec3(-0.5, -0.5, 1), Vec3(-0.5, 0.5, 1), Vec3(0.5, 0.5, 1),
+                                     Vec3(0.5, -0.5, 1)};
+    const std::array<Vec3, 4> hidden = {Vec3(lo, -0.5, 1), Vec3(lo, 0.5, 1), Vec3(hi, 0.5, 1),
+                                        Vec3(hi, -0.5, 1)};
+    const Vec3 up(0, 0, 1);
+    const double direct =
+        0.5 * 4 * (point_to_polygon(p, up, all) - (hi > lo ? point_to_polygon(p, up, hidden) : 0)) /
+        std::numbers::pi;
+    exact.push_back(direct);
+    off.push_back(image.at(x, y).g - direct);
+  }
+  double speckle = 0, mean = 0;
+  for (std::size_t i = 1; i + 1 < off.size(); ++i) {
+    const double h = off[i] - 0.5 * (off[i - 1] + off[i + 1]);
+    speckle += h * h;
+    mean += exact[i];
+  }
+  const double n = double(off.size() - 2);
+  speckle = std::sqrt(speckle / n) / (mean / n);
+  std::printf("penumbra speckle: %.2f %% of the direct light\n", 100 * speckle);
+  EXPECT_LT(speckle, 0.08);
 }
 
 }  // namespace
