@@ -10,8 +10,10 @@
 // wide panel; `objects`, a room with a grid of small tessellated spheres on its floor. Each
 // size runs in a child process, so that its peak resident memory is its own. References are
 // path-traced at --spp (default 1024) and kept in --references (default
-// bench-references/) as FAMILY-N-SPP.exr, so a second run reuses them; their own noise is
-// taken out of the error as bumprad-bench-truth does (from a second render at spp / 4).
+// bench-references/) as FAMILY-N-WIDTH-SPP-SEED.exr, so a second run reuses them; their own
+// noise is taken out of the error as bumprad-bench-truth does (from a second render at
+// spp / 4). bumprad's own image is written beside them, FAMILY-N-WIDTH-bumprad.exr, to see
+// where the error lies.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -230,10 +232,11 @@ void measure(const std::string& family, std::size_t size, int spp, int width,
   const Mesh mesh = build_mesh(scene);
   const RayScene rays(mesh);
   std::filesystem::create_directories(references);
+  const std::string stem = family + "-" + std::to_string(size) + "-" + std::to_string(width) + "-";
+  write_image((references / (stem + "bumprad.exr")).string(), image, 1);
   auto cached = [&](int samples, std::uint32_t seed) {
     const std::filesystem::path path =
-        references / (family + "-" + std::to_string(size) + "-" + std::to_string(width) + "-" +
-                      std::to_string(samples) + "-" + std::to_string(seed) + ".exr");
+        references / (stem + std::to_string(samples) + "-" + std::to_string(seed) + ".exr");
     if (std::filesystem::exists(path)) return read_image(path.string());
     Image im = render_reference(scene, mesh, rays, {samples, seed});
     write_image(path.string(), im, 1);
