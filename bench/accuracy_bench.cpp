@@ -100,21 +100,21 @@ void point_sweep(const char* regime, double z) {
     report("hemicube", res, seconds_since(t0), f);
   }
   // Embree's first query builds what it needs lazily: keep that out of the timings.
-  ray_cast_form_factor(rs[0].point, rs[0].normal, std::vector<AreaSample>{{e.centroid, e.area}},
-                       e.normal, &rays, 1e-6);
+  ray_cast_form_factor(rs[0].point, rs[0].normal,
+                       std::vector<AreaSample>{{e.centroid, e.area, e.normal}}, &rays, 1e-6);
   for (int n : {1, 2, 4, 8, 16}) {
     std::vector<AreaSample> samples;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
-        samples.push_back(
-            {Vec3(1.2 * ((i + 0.5) / n - 0.5), 0.8 * ((j + 0.5) / n - 0.5), z), e.area / (n * n)});
+        samples.push_back({Vec3(1.2 * ((i + 0.5) / n - 0.5), 0.8 * ((j + 0.5) / n - 0.5), z),
+                           e.area / (n * n), e.normal});
     std::vector<double> f;
     auto t0 = Clock::now();
     constexpr int kRepeats = 50;  // a pass takes well under a millisecond: time many
     for (int rep = 0; rep < kRepeats; ++rep) {
       f.clear();
       for (const Receiver& r : rs)
-        f.push_back(ray_cast_form_factor(r.point, r.normal, samples, e.normal, &rays, 1e-6));
+        f.push_back(ray_cast_form_factor(r.point, r.normal, samples, &rays, 1e-6));
     }
     report("ray_cast", n * n, seconds_since(t0) / kRepeats, f);
   }

@@ -7,8 +7,8 @@
 namespace bumprad {
 
 double ray_cast_form_factor(const Vec3& receiver, const Vec3& receiver_normal,
-                            std::span<const AreaSample> source, const Vec3& source_normal,
-                            const RayScene* rays, double offset) {
+                            std::span<const AreaSample> source, const RayScene* rays,
+                            double offset) {
   const Vec3 from = receiver + receiver_normal * offset;
   double f = 0;
   for (const AreaSample& s : source) {
@@ -17,10 +17,10 @@ double ray_cast_form_factor(const Vec3& receiver, const Vec3& receiver_normal,
     if (!(r2 > 0)) continue;
     Vec3 w = d / std::sqrt(r2);
     double cos_r = glm::dot(receiver_normal, w);
-    double cos_s = -glm::dot(source_normal, w);
+    double cos_s = -glm::dot(s.normal, w);
     if (cos_r <= 0 || cos_s <= 0) continue;
     if (rays) {
-      Vec3 to = s.point + source_normal * offset;
+      Vec3 to = s.point + s.normal * offset;
       Vec3 path = to - from;
       double length = glm::length(path);
       if (length > 0 && rays->occluded({from, path / length}, length)) continue;

@@ -11,19 +11,20 @@
 
 namespace bumprad {
 
-// A point on a source and the area it stands for.
+// A point on a source, the area it stands for and the way that area faces (the side it
+// emits from; on a curved source, its own).
 struct AreaSample {
   Vec3 point;
   double area;
+  Vec3 normal;
 };
 
 // F(dA_r -> A_s) = sum_k V_k cos(theta_r) cos(theta_k) dA_k / (pi r_k^2 + dA_k) (Wallace
 // eq. 9): the dA_k term keeps a sample's contribution finite as r -> 0, where the point-to-
-// point kernel would blow up. `source_normal` faces the side the source emits from. With
-// `rays`, each sample is tested for visibility from the receiver; `offset` lifts the rays'
-// ends off both surfaces so that neither hides the other.
+// point kernel would blow up. With `rays`, each sample is tested for visibility from the
+// receiver; `offset` lifts the rays' ends off both surfaces so that neither hides the other.
 double ray_cast_form_factor(const Vec3& receiver, const Vec3& receiver_normal,
-                            std::span<const AreaSample> source, const Vec3& source_normal,
-                            const RayScene* rays, double offset);
+                            std::span<const AreaSample> source, const RayScene* rays,
+                            double offset);
 
 }  // namespace bumprad

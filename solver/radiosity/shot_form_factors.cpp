@@ -43,8 +43,8 @@ struct ShooterPoint {
 // Points spread over a shooting patch, at most `most`, each with the part of `weight` (one
 // value per element of the patch) it stands for: m x m part points (geometry.h) of each
 // element, m at most `per_element`, while at least 2 x 2 fit; else the elements binned on the
-// patch's plane into a square grid of about `most` cells, one point a cell at the weighted
-// centroid of its elements. Bounded because the points are the cost: unbounded, a patch of 4 x
+// patch's plane into a square grid of about `most` cells, one point a cell (below) with their
+// weight. Bounded because the points are the cost: unbounded, a patch of 4 x
 // 4 elements cast 64 rays per aliasing receiver (half of each shot's time on the 8,992-element
 // Cornell box), and a 64 x 64-element patch took 16,384 near-field points a receiver. Binned
 // in the plane, not taken in the elements' order: a mesh's patch lists its triangles in the
@@ -76,16 +76,37 @@ std::vector<ShooterPoint> spread_points(const Mesh& mesh, const Patch& patch,
   std::vector<Vec3> sum(std::size_t(cells * cells), Vec3(0));
   std::vector<double> total(sum.size(), 0);
   std::vector<Vec3> normal(sum.size(), Vec3(0));
-  for (std::uint32_t e = 0; e < patch.count; ++e) {
+  auto cell_of = [&](std::uint32_t e) {
     const glm::dvec2 at = (local(e) - lo) / cell;
     const int i = std::clamp(int(at.x), 0, cells - 1), j = std::clamp(int(at.y), 0, cells - 1);
-    const std::size_t c = std::size_t(j * cells + i);
+    return std::size_t(j * cells + i);
+  };
+  for (std::uint32_t e = 0; e < patch.count; ++e) {
+    const std::size_t c = cell_of(e);
     sum[c] += weight[e] * mesh.elements[patch.first + e].centroid;
     total[c] += weight[e];
     normal[c] += std::abs(weight[e]) * mesh.elements[patch.first + e].normal;
   }
+  // Each cell's point is its weighted centroid moved onto the plane of its element nearest
+  // it: on a curved patch the centroid lies off the surface, and rays to it from the surface
+  // were hidden by the surface itself (a closed room of hills lost a quarter of its light
+  // with ray-cast form factors). The element's own centroid would do for that, but moves a
+  // flat patch's point by up to half an element.
+  std::vector<std::uint32_t> nearest(sum.size(), 0);
+  std::vector<double> best(sum.size(), INFINITY);
+  for (std::uint32_t e = 0; e < patch.count; ++e) {
+    const std::size_t c = cell_of(e);
+    if (!(total[c] > 0) || weight[e] == 0) continue;
+    const Vec3 d = mesh.elements[patch.first + e].centroid - sum[c] / total[c];
+    if (glm::dot(d, d) < best[c]) best[c] = glm::dot(d, d), nearest[c] = e;
+  }
   for (std::size_t c = 0; c < sum.size(); ++c)
-    if (total[c] > 0) out.push_back({sum[c] / total[c], glm::normalize(normal[c]), total[c]});
+    if (total[c] > 0) {
+      const Element& on = mesh.elements[patch.first + nearest[c]];
+      const Vec3 centre = sum[c] / total[c];
+      out.push_back({centre - glm::dot(centre - on.centroid, on.normal) * on.normal,
+                     glm::normalize(normal[c]), total[c]});
+    }
   return out;
 }
 
@@ -104,8 +125,7 @@ class PatchRays {
   // The share of the weighed patch's samples in view from `element` (NaN if none faces it),
   // by its kRaySamples or, for a lookout, its kLookoutSamples.
   enum class Samples { Receiver, Lookout };
-  double visible_share(std::uint32_t patch, std::uint32_t element,
-                       Samples which = Samples::Receiver) const;
+  double visible_share(std::uint32_t element, Samples which = Samples::Receiver) const;
 
  private:
   const Mesh& mesh_;
@@ -119,14 +139,15 @@ class PatchRays {
 // F_pj = F(dA_j -> A_p) A_j / A_p by reciprocity, the receiver at the element's centre: the
 // unoccluded value times the share of the samples the rays see.
 double PatchRays::form_factor(std::uint32_t patch, std::uint32_t element) const {
-  const double visible = visible_share(patch, element);
+  const double visible = visible_share(element);
   return visible > 0 ? unoccluded(patch, element) * visible : 0;
 }
 
 // Near field, point sampling falls far short
 // (tests/solver/radiosity/ray_cast_form_factor_test.cpp): there Lambert's exact value from
 // each of the shooter's elements, while it has at most kExactElements (a receiver then
-// costs one polygon each; a finer shooter keeps the samples).
+// costs one polygon each; a finer shooter keeps the samples). An element of the shooter
+// takes nothing from itself.
 double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
   const Element& e = mesh_.elements[element];
   const Patch& p = mesh_.patches[patch];
@@ -134,23 +155,22 @@ double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
   if (p.count <= kExactElements && glm::length(e.centroid - p.centroid) < near_field_radius(p)) {
     std::array<Vec3, 4> storage;
     for (std::uint32_t k = 0; k < p.count; ++k)
-      f += shot_area_[k] / mesh_.elements[p.first + k].area *
-           point_to_polygon(e.centroid, e.normal,
-                            element_corners(mesh_, mesh_.elements[p.first + k], storage));
+      if (p.first + k != element)
+        f += shot_area_[k] / mesh_.elements[p.first + k].area *
+             point_to_polygon(e.centroid, e.normal,
+                              element_corners(mesh_, mesh_.elements[p.first + k], storage));
   } else {
-    f = ray_cast_form_factor(e.centroid, e.normal, shot_samples_, p.normal, nullptr, 0);
+    f = ray_cast_form_factor(e.centroid, e.normal, shot_samples_, nullptr, 0);
   }
   return f * e.area / p.area;
 }
 
-double PatchRays::visible_share(std::uint32_t patch, std::uint32_t element, Samples which) const {
+double PatchRays::visible_share(std::uint32_t element, Samples which) const {
   const Element& e = mesh_.elements[element];
-  const Vec3& n = mesh_.patches[patch].normal;
   const auto& samples = which == Samples::Lookout ? lookout_samples_ : shot_samples_;
-  const double open = ray_cast_form_factor(e.centroid, e.normal, samples, n, nullptr, 0);
+  const double open = ray_cast_form_factor(e.centroid, e.normal, samples, nullptr, 0);
   if (!(open > 0)) return std::numeric_limits<double>::quiet_NaN();
-  return ray_cast_form_factor(e.centroid, e.normal, samples, n, &rays_,
-                              centroid_ray_offset(mesh_)) /
+  return ray_cast_form_factor(e.centroid, e.normal, samples, &rays_, centroid_ray_offset(mesh_)) /
          open;
 }
 
@@ -174,7 +194,7 @@ void PatchRays::weigh(std::uint32_t pi) {
        {std::pair{&shot_samples_, kRaySamples}, std::pair{&lookout_samples_, kLookoutSamples}}) {
     samples->clear();
     for (const ShooterPoint& s : spread_points(mesh_, patch, shot_area_, most, int(most)))
-      samples->push_back({s.point, s.weight});
+      samples->push_back({s.point, s.weight, s.normal});
   }
 }
 
@@ -480,7 +500,7 @@ double HemicubeFormFactors::near_lambert(std::uint32_t element, bool occluded) c
   double mean = 0, weights = 0;
   for (const auto& [point, normal, w] : near_points_) {
     weights += w;
-    if (glm::dot(e.normal, point - e.centroid) <= 0) continue;
+    if (glm::dot(e.normal, point - e.centroid) <= offset) continue;  // behind, or in its plane
     const double f = point_to_polygon(point, normal, receiver);
     if (!(f > 0)) continue;
     if (occluded) {
@@ -552,19 +572,18 @@ std::vector<VisibleElement> HemicubeFormFactors::hidden_near(
 // group, times the visible share of the shooter blended from the rays of the lookouts near
 // it. The group's pixels would give that share too, but noisily: at 14 pixels a group they
 // were 9 % off (RMS per element), the rays 0.05 %. Per shot this costs one pass over the
-// grouped elements and 64 rays a group, whatever the triangles.
+// grouped elements and 64 rays a group, whatever the triangles. The shooter's own groups
+// receive too: a curved patch's triangles that face each other (a valley) light each other,
+// and a closed room of hills left out that light, 16 % short in its valleys.
 std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot,
                                                          std::stop_token stop) const {
-  const std::uint32_t pi = shot.patch;
-  // NaN: the lookout is the shooter's or faces none of it, and takes no part.
+  // NaN: the lookout faces none of the shooter, and takes no part.
   std::vector<double> seen(lookouts_.size());
   parallel_for(
       int(lookouts_.size()),
       [&](int l) {
-        const std::uint32_t e = lookouts_[std::size_t(l)];
-        seen[std::size_t(l)] = mesh_.elements[e].patch == pi
-                                   ? std::numeric_limits<double>::quiet_NaN()
-                                   : rays_->visible_share(pi, e, PatchRays::Samples::Lookout);
+        seen[std::size_t(l)] =
+            rays_->visible_share(lookouts_[std::size_t(l)], PatchRays::Samples::Lookout);
       },
       stop);
   std::vector<std::vector<VisibleElement>> per_group(groups_.size());
@@ -572,7 +591,6 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot,
       int(groups_.size()),
       [&](int k) {
         const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
-        if (mesh_.elements[group.first].patch == pi) return;
         std::vector<VisibleElement>& out = per_group[std::size_t(k)];
         for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
           const double f = grouped_unoccluded(shot, j) * (open_.empty() ? 1 : open_[j]);

@@ -56,6 +56,71 @@ TEST(Progressive, FurnaceConvergesToEmissionOverOneMinusRho) {
   }
 }
 
+// The furnace over hills: a closed room whose floor is one smooth mesh of rolling hills (its
+// edges level with the walls' feet), everything emitting 1 with reflectance 0.5, so every
+// element's radiosity is 2 however the light goes. The hills' triangles receive in groups
+// and shoot from curved patches: a patch's points must face as its triangles do, and a
+// valley's triangles light each other within one patch. Measured: 212 shots to 0.1 %
+// unshot; over the hills' elements |B - 2| / 2 mean 0.88 %, worst 23 % (an element at a
+// valley's crease), area-weighted mean B 0.992 of 2. With every shooter point facing as its
+// patch's mean normal, points off a curved patch's surface and no light within a patch
+// (before 2026-12-05): 1.8 % still unshot after 5,000 shots, 2.7 %, 24 %, 0.973.
+TEST(Progressive, FurnaceOverHillsConvergesToo) {
+  const double side = 10, height = 4;
+  const int n = 40;
+  TriangleMeshShape hills;
+  hills.smooth = true;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double u = double(i) / n, v = double(j) / n, x = side * u, z = side * v;
+      const double rise =
+          0.8 * std::sin(0.9 * x) * std::sin(0.7 * z) + 0.3 * std::cos(2.1 * x + 1.3 * z);
+      hills.positions.push_back(
+          Vec3(x, rise * (1 - std::pow(2 * u - 1, 8)) * (1 - std::pow(2 * v - 1, 8)), z));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1,
+                          c = a + std::uint32_t(n + 1), d = c + 1;
+      hills.triangles.push_back({a, c, b});  // facing up
+      hills.triangles.push_back({b, c, d});
+    }
+  Object ground;
+  ground.shape = hills;
+  const double w = side, h = height;
+  Scene s = test::scene_of(
+      {ground, test::quad({Vec3(0, h, 0), Vec3(w, h, 0), Vec3(w, h, w), Vec3(0, h, w)}),
+       test::quad({Vec3(0, h, w), Vec3(w, h, w), Vec3(w, 0, w), Vec3(0, 0, w)}),
+       test::quad({Vec3(0, 0, 0), Vec3(w, 0, 0), Vec3(w, h, 0), Vec3(0, h, 0)}),
+       test::quad({Vec3(0, h, 0), Vec3(0, h, w), Vec3(0, 0, w), Vec3(0, 0, 0)}),
+       test::quad({Vec3(w, 0, 0), Vec3(w, 0, w), Vec3(w, h, w), Vec3(w, h, 0)})},
+      0.5, 1);
+  s.solver.unshot_fraction = 1e-3;
+  s.solver.max_shots = 5000;
+  const Mesh mesh = build_mesh(s);
+  const RayScene rays(mesh);
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open_share(mesh, rays));
+  solver.run();
+  ASSERT_LE(solver.unshot_fraction(), 1e-3);
+  double mean = 0, worst = 0, light = 0, area = 0;
+  int count = 0, grouped = 0;
+  for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
+    const Element& e = mesh.elements[i];
+    if (e.object != 0) continue;
+    grouped += mesh.groups[e.group].count > 1;
+    const double error = std::abs(solver.radiosity()[i].g - 2) / 2;
+    mean += error, worst = std::max(worst, error), ++count;
+    light += solver.radiosity()[i].g * e.area, area += e.area;
+  }
+  mean /= count;
+  ASSERT_GT(grouped, 0.9 * count) << "the hills' triangles receive in groups";
+  std::printf("%d shots; hills' %d elements: |B - 2| / 2 mean %.3g, worst %.3g; mean B %.4f of 2\n",
+              solver.shots(), count, mean, worst, light / area / 2);
+  EXPECT_LT(mean, 0.015);
+  EXPECT_LT(worst, 0.3);
+  EXPECT_NEAR(light / area / 2, 1, 0.015);
+}
+
 // The furnace again with Wallace's ray-cast form factors: point sampling does not conserve
 // energy (form factors from 16 samples per patch need not sum to one), so the closed box
 // "leaks" a little and the radiosity settles low. Measured worst / mean: 0.28% / 0.22%
