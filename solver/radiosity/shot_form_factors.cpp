@@ -219,12 +219,9 @@ std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube
   visible_.clear();
   if (map) hemicube.form_factors();  // lists the bumpy elements' pixels for the map
   std::vector<double> f(mesh_.elements.size(), 0.0);
+  // The shooter's own elements too: a curved patch's that face each other light each other.
   parallel_for(
-      int(f.size()),
-      [&](int j) {
-        if (mesh_.elements[std::size_t(j)].patch != pi)
-          f[std::size_t(j)] = rays_.form_factor(pi, std::uint32_t(j));
-      },
+      int(f.size()), [&](int j) { f[std::size_t(j)] = rays_.form_factor(pi, std::uint32_t(j)); },
       shot.stop);
   double total = 0;
   for (std::uint32_t j = 0; j < f.size(); ++j) {
