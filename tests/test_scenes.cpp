@@ -58,10 +58,7 @@ Scene glossy_highlight() {
   for (Vec3& p : std::get<QuadShape>(s.objects[1].shape).corners) p.x += 1;
   s.materials[0].specular = 1;
   s.materials[0].shininess = 20;
-  Material lamp;
-  lamp.reflectance = Rgb(0);
-  lamp.emission = Rgb(50);
-  s.materials.push_back(lamp);
+  s.materials.push_back(emitter(50));
   s.camera.position = Vec3(-1, 0, 1);
   s.camera.look_at = Vec3(0);
   s.camera.up = Vec3(0, 0, 1);
@@ -97,6 +94,13 @@ PixelSpread pixel_spread(const Image& image) {
     }
   const double n = image.width * image.height, mean = sum / n;
   return {mean, std::sqrt(std::max(0.0, square / n - mean * mean)) / mean};
+}
+
+Material emitter(double emission) {
+  Material m;
+  m.reflectance = Rgb(0);
+  m.emission = Rgb(emission);
+  return m;
 }
 
 }  // namespace bumprad::test

@@ -35,4 +35,7 @@ PixelSpread pixel_spread(const Image& image);
 // A scene with one grey material of reflectance `rho` and emission `emission`.
 Scene scene_of(std::vector<Object> objects, double rho = 0.5, double emission = 0);
 
+// A lamp's material: emits `emission`, reflects nothing.
+Material emitter(double emission);
+
 }  // namespace bumprad::test

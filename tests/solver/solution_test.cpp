@@ -21,10 +21,7 @@ Scene bumpy_scene(TextureMode mode) {
   auto f = test::rectangle_facing_down(4, 4, 0);
   Scene s =
       test::scene_of({test::quad(lamp, 2, 2, 1), test::quad({f[3], f[2], f[1], f[0]}, 8, 8)}, 0.6);
-  Material light;
-  light.reflectance = Rgb(0);
-  light.emission = Rgb(30);
-  s.materials.push_back(light);
+  s.materials.push_back(test::emitter(30));
   Object sphere;
   sphere.shape = SphereShape{Vec3(-0.6, 0, 0.5), 0.5};
   sphere.density.counts = {24, 12};

@@ -53,13 +53,6 @@ Checked solve_checked(Scene s, FormFactorMethod method) {
   return out;
 }
 
-Material lamp(double emission) {
-  Material m;
-  m.reflectance = Rgb(0);
-  m.emission = Rgb(emission);
-  return m;
-}
-
 std::array<Vec3, 4> facing_up(double w, double h, double z) {
   auto c = test::rectangle_facing_down(w, h, z);
   return {c[3], c[2], c[1], c[0]};
@@ -75,7 +68,7 @@ TEST(Stability, ThinObjectsCastShadows) {
     Scene s = test::scene_of({test::quad(test::rectangle_facing_down(0.5, 0.5, 2), 1, 1, 1),
                               test::quad(facing_up(4, 4, 0), 12, 12), slab},
                              0.5);
-    s.materials.push_back(lamp(10));
+    s.materials.push_back(test::emitter(10));
     s.solver.max_shots = 200;
     const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     double under = 0, open = 0, top = 0;
@@ -99,7 +92,7 @@ TEST(Stability, CoplanarTouchingPatchesExchangeNothing) {
         {test::quad({Vec3(0, -1, 0), Vec3(0, 1, 0), Vec3(-1, 1, 0), Vec3(-1, -1, 0)}, 4, 4, 1),
          test::quad({Vec3(1, -1, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0, -1, 0)}, 4, 4)},
         0.5);
-    s.materials.push_back(lamp(1));
+    s.materials.push_back(test::emitter(1));
     const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     for (std::size_t i = 0; i < mesh.elements.size(); ++i)
       if (mesh.elements[i].material == 0) {
@@ -121,7 +114,7 @@ TEST(Stability, SliverTrianglesStayFinite) {
     mesh_object.shape = tris;
     Scene s = test::scene_of(
         {test::quad(test::rectangle_facing_down(0.5, 0.5, 2), 1, 1, 1), mesh_object}, 0.5);
-    s.materials.push_back(lamp(10));
+    s.materials.push_back(test::emitter(10));
     s.solver.max_shots = 50;
     const auto [mesh, radiosity, ledger] = solve_checked(s, method);
     double lit = 0;
@@ -144,7 +137,7 @@ TEST(Stability, TinyObjectsInHugeScenesGetTheirLight) {
     cube.density.counts = {1, 1};
     auto light = test::rectangle_facing_down(20, 20, 999);
     Scene s = test::scene_of({test::quad(light, 1, 1, 1), room, cube}, 0.5);
-    s.materials.push_back(lamp(1000));
+    s.materials.push_back(test::emitter(1000));
     s.solver.form_factors = method;
     s.solver.max_shots = 1;  // the light's shot alone: direct light
     Mesh mesh = build_mesh(s);
@@ -178,7 +171,7 @@ TEST(Stability, GrazingLightOnBumpsStaysBounded) {
       test::quad({Vec3(-1, 1, 0.001), Vec3(-1, 1, 2), Vec3(-1, -1, 2), Vec3(-1, -1, 0.001)}, 8, 8);
   wall.bump = 0;
   Scene s = test::scene_of({test::quad(light, 1, 1, 1), wall}, 0.5);
-  s.materials.push_back(lamp(10));
+  s.materials.push_back(test::emitter(10));
   BumpFunction b;
   b.type = BumpType::Wrinkles;
   b.amplitude = 0.05;

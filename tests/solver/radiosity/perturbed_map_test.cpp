@@ -32,10 +32,7 @@ struct LightAndReceiver {
     scene = test::scene_of({test::quad({r[3], r[2], r[1], r[0]}),
                             test::quad(light, light_elements, light_elements, 1)},
                            kRho);
-    Material lamp;
-    lamp.reflectance = Rgb(0);
-    lamp.emission = Rgb(1);
-    scene.materials.push_back(lamp);
+    scene.materials.push_back(test::emitter(1));
     mesh = build_mesh(scene);
   }
   double exact(const Vec3& p, const Vec3& n) const { return kRho * point_to_polygon(p, n, light); }
@@ -200,10 +197,7 @@ TEST(PerturbedMap, GrazingLightStaysBoundedAndClose) {
                                Vec3(3, 0.5, 0.02)};
   Scene scene =
       test::scene_of({test::quad({r[3], r[2], r[1], r[0]}), test::quad(light, 8, 8, 1)}, kRho);
-  Material lamp;
-  lamp.reflectance = Rgb(0);
-  lamp.emission = Rgb(1);
-  scene.materials.push_back(lamp);
+  scene.materials.push_back(test::emitter(1));
   scene.solver.max_shots = 64;
   scene.solver.unshot_fraction = 0;
   scene.solver.patch_elements = 1;

@@ -175,10 +175,7 @@ TEST(Progressive, SmallDistantReceiversTakeRayCastFormFactors) {
     Scene s = test::scene_of({light, test::quad({Vec3(-0.025, -0.025, 0), Vec3(0.025, -0.025, 0),
                                                  Vec3(0.025, 0.025, 0), Vec3(-0.025, 0.025, 0)})},
                              0.5);
-    Material emitter;
-    emitter.reflectance = Rgb(0);
-    emitter.emission = Rgb(1);
-    s.materials.push_back(emitter);
+    s.materials.push_back(test::emitter(1));
     s.solver.hemicube_resolution = 32;
     Mesh mesh = build_mesh(s);
     ASSERT_EQ(mesh.patches.size(), 2u) << "the lamp is one patch";
@@ -217,10 +214,7 @@ TEST(Progressive, FineTrianglesReceiveAsGroupsWithoutPixelNoise) {
   ground.shape = test::square_of_triangles(Vec3(-0.5, -0.5, 0), 60, true);
   const auto lamp = test::rectangle_facing_down(0.5, 0.5, 2);
   Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), ground}, 0.5);
-  Material emitter;
-  emitter.reflectance = Rgb(0);
-  emitter.emission = Rgb(1);
-  s.materials.push_back(emitter);
+  s.materials.push_back(test::emitter(1));
   s.solver.element_size = 0.1;
   Mesh mesh = build_mesh(s);
   ASSERT_EQ(mesh.elements.size(), 7201u);
@@ -270,10 +264,7 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
       {Vec3(x0, y0, height), Vec3(x1, y0, height), Vec3(x1, y1, height), Vec3(x0, y1, height)}, 1,
       1, 2);
   Scene s = test::scene_of({test::quad(lamp, 1, 1, 1), ground, square}, 0.5);
-  Material emitter;
-  emitter.reflectance = Rgb(0);
-  emitter.emission = Rgb(1);
-  s.materials.push_back(emitter);
+  s.materials.push_back(test::emitter(1));
   s.materials.push_back(Material{});
   s.materials.back().reflectance = Rgb(0);
   s.solver.element_size = 0.1;

@@ -346,10 +346,7 @@ TEST(ViewPass, ExactDirectLightShadesBumpsWithTheirPerturbedNormals) {
            {Vec3(1.5, -0.3, 0.1), Vec3(1.5, -0.3, 0.5), Vec3(1.5, 0.3, 0.5), Vec3(1.5, 0.3, 0.1)},
            2, 2, 1)},
       0.5);
-  Material lamp;
-  lamp.reflectance = Rgb(0);
-  lamp.emission = Rgb(4);
-  s.materials.push_back(lamp);
+  s.materials.push_back(test::emitter(4));
   BumpFunction wrinkles;
   wrinkles.amplitude = 0.02;
   wrinkles.scale = glm::dvec2(6, 6);
@@ -402,10 +399,7 @@ TEST(ViewPass, PenumbraeHaveNoSpeckle) {
            8),
        test::quad(test::rectangle_facing_down(1, 1, 1), 2, 2, 1)},
       0.5);
-  Material lamp;
-  lamp.reflectance = Rgb(0);
-  lamp.emission = Rgb(4);
-  s.materials.push_back(lamp);
+  s.materials.push_back(test::emitter(4));
   s.solver.max_shots = 8;
   s.camera.position = Vec3(0, 0, 0.9);
   s.camera.look_at = Vec3(0);

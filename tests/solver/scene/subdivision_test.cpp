@@ -95,10 +95,7 @@ TEST(Subdivision, AdaptiveRefinementReducesTheErrorWhereItSplits) {
     Object blocker = test::quad(test::rectangle_facing_down(0.6, 0.6, 0.15), 1, 1);
     Scene s = test::scene_of(
         {test::quad(test::rectangle_facing_down(3, 3, 2.5), 4, 4, 1), floor, blocker}, 0.5);
-    Material light;
-    light.reflectance = Rgb(0);
-    light.emission = Rgb(10);
-    s.materials.push_back(light);
+    s.materials.push_back(test::emitter(10));
     s.solver.max_shots = 40;
     s.solver.hemicube_resolution = 400;  // 64 x 64 elements must not alias
     s.solver.adaptive_levels = levels;
