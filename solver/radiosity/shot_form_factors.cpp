@@ -33,32 +33,26 @@ constexpr std::uint32_t kExactElements = 64;
 // Normals closer than this (the cosine between them) face alike.
 constexpr double kSameFacing = 0.9;
 
-// A point standing for part of a shooting patch: where, facing which way (its elements' mean
-// normal: a curved patch's points face apart), and the part of a weight (area or power).
-struct ShooterPoint {
-  Vec3 point, normal;
-  double weight;
-};
-
 // Points spread over a shooting patch, at most `most`, each with the part of `weight` (one
-// value per element of the patch) it stands for: m x m part points (geometry.h) of each
-// element, m at most `per_element`, while at least 2 x 2 fit; else the elements binned on the
-// patch's plane into a square grid of about `most` cells, one point a cell (below) with their
-// weight. Bounded because the points are the cost: unbounded, a patch of 4 x
-// 4 elements cast 64 rays per aliasing receiver (half of each shot's time on the 8,992-element
+// value per element of the patch: its area or its power) it stands for, as AreaSample::area,
+// and facing as its elements do (a curved patch's points face apart): m x m part points
+// (geometry.h) of each element, m at most `per_element`, while at least 2 x 2 fit; else the
+// elements binned on the patch's plane into a square grid of about `most` cells, one point a cell
+// (below) with their weight. Bounded because the points are the cost: unbounded, a patch of 4 x 4
+// elements cast 64 rays per aliasing receiver (half of each shot's time on the 8,992-element
 // Cornell box), and a 64 x 64-element patch took 16,384 near-field points a receiver. Binned
 // in the plane, not taken in the elements' order: a mesh's patch lists its triangles in the
 // file's order, so runs of them are strips, and a run's middle triangle, which had stood for
 // the whole run, could lie under a box the rest of the run is beside.
-std::vector<ShooterPoint> spread_points(const Mesh& mesh, const Patch& patch,
-                                        std::span<const double> weight, std::size_t most,
-                                        int per_element) {
-  std::vector<ShooterPoint> out;
+std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
+                                      std::span<const double> weight, std::size_t most,
+                                      int per_element) {
+  std::vector<AreaSample> out;
   if (4 * std::size_t(patch.count) <= most) {
     const int m = std::min(per_element, int(std::sqrt(double(most / patch.count))));
     for (std::uint32_t e = 0; e < patch.count; ++e)
       for (const Vec3& point : part_points(mesh, mesh.elements[patch.first + e], m))
-        out.push_back({point, mesh.elements[patch.first + e].normal, weight[e] / (m * m)});
+        out.push_back({point, weight[e] / (m * m), mesh.elements[patch.first + e].normal});
     return out;
   }
   const Frame frame = frame_about(patch.normal);
@@ -104,8 +98,8 @@ std::vector<ShooterPoint> spread_points(const Mesh& mesh, const Patch& patch,
     if (total[c] > 0) {
       const Element& on = mesh.elements[patch.first + nearest[c]];
       const Vec3 centre = sum[c] / total[c];
-      out.push_back({centre - glm::dot(centre - on.centroid, on.normal) * on.normal,
-                     glm::normalize(normal[c]), total[c]});
+      out.push_back({centre - glm::dot(centre - on.centroid, on.normal) * on.normal, total[c],
+                     glm::normalize(normal[c])});
     }
   return out;
 }
@@ -190,12 +184,8 @@ void PatchRays::weigh(std::uint32_t pi) {
     const double area = mesh_.elements[patch.first + k].area;
     shot_area_[k] = open > 0 ? patch.area * area * open_[patch.first + k] / open : area;
   }
-  for (auto [samples, most] :
-       {std::pair{&shot_samples_, kRaySamples}, std::pair{&lookout_samples_, kLookoutSamples}}) {
-    samples->clear();
-    for (const ShooterPoint& s : spread_points(mesh_, patch, shot_area_, most, int(most)))
-      samples->push_back({s.point, s.weight, s.normal});
-  }
+  shot_samples_ = spread_points(mesh_, patch, shot_area_, kRaySamples, int(kRaySamples));
+  lookout_samples_ = spread_points(mesh_, patch, shot_area_, kLookoutSamples, int(kLookoutSamples));
 }
 
 // Ray casting: every element's form factor from rays.
@@ -261,16 +251,16 @@ class HemicubeFormFactors : public ShotFormFactors {
   void by_rays(const Shot& shot, Prepared& out) const;
   std::vector<VisibleElement> hidden_near(const Shot& shot,
                                           std::span<const std::uint32_t> near) const;
-  std::vector<VisibleElement> grouped(const Shot& shot, std::stop_token stop) const;
+  std::vector<VisibleElement> grouped(const Shot& shot) const;
   double grouped_unoccluded(const Shot& shot, std::uint32_t element) const;
 
   const Mesh& mesh_;
   const RayScene* scene_rays_;
   const int resolution_;
   const double alias_pixels_;
-  std::optional<PatchRays> rays_;          // none: no aliasing fallback
-  std::span<const double> open_;           // per element: open_share, or empty
-  std::vector<ShooterPoint> near_points_;  // weighed by the power each stands for
+  std::optional<PatchRays> rays_;        // none: no aliasing fallback
+  std::span<const double> open_;         // per element: open_share, or empty
+  std::vector<AreaSample> near_points_;  // each with the power it stands for as its area
   // The rectangle around them on the shooter's plane, in its frame about the patch centroid.
   Frame near_frame_;
   glm::dvec2 near_lo_{0}, near_hi_{0};
@@ -441,7 +431,7 @@ void HemicubeFormFactors::begin(const Shot& shot) {
 HemicubeFormFactors::Prepared HemicubeFormFactors::prepare(const Shot& shot) const {
   Prepared out;
   by_rays(shot, out);
-  out.grouped = grouped(shot, shot.stop);
+  out.grouped = grouped(shot);
   return out;
 }
 
@@ -453,7 +443,7 @@ void HemicubeFormFactors::near_points(const Shot& shot) {
   near_frame_ = frame_about(patch.normal);
   near_lo_ = glm::dvec2(std::numeric_limits<double>::max());
   near_hi_ = -near_lo_;
-  for (const ShooterPoint& s : near_points_) {
+  for (const AreaSample& s : near_points_) {
     const Vec3 d = s.point - patch.centroid;
     const glm::dvec2 at(glm::dot(d, near_frame_.x), glm::dot(d, near_frame_.y));
     near_lo_ = glm::min(near_lo_, at);
@@ -495,7 +485,7 @@ double HemicubeFormFactors::near_lambert(std::uint32_t element, bool occluded) c
   const double offset = centroid_ray_offset(mesh_);
   const Vec3 from = e.centroid + e.normal * offset;
   double mean = 0, weights = 0;
-  for (const auto& [point, normal, w] : near_points_) {
+  for (const auto& [point, w, normal] : near_points_) {
     weights += w;
     if (glm::dot(e.normal, point - e.centroid) <= offset) continue;  // behind, or in its plane
     const double f = point_to_polygon(point, normal, receiver);
@@ -572,8 +562,7 @@ std::vector<VisibleElement> HemicubeFormFactors::hidden_near(
 // grouped elements and 64 rays a group, whatever the triangles. The shooter's own groups
 // receive too: a curved patch's triangles that face each other (a valley) light each other,
 // and a closed room of hills left out that light, 16 % short in its valleys.
-std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot,
-                                                         std::stop_token stop) const {
+std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const {
   // NaN: the lookout faces none of the shooter, and takes no part.
   std::vector<double> seen(lookouts_.size());
   parallel_for(
@@ -582,7 +571,7 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot,
         seen[std::size_t(l)] =
             rays_->visible_share(lookouts_[std::size_t(l)], PatchRays::Samples::Lookout);
       },
-      stop);
+      shot.stop);
   std::vector<std::vector<VisibleElement>> per_group(groups_.size());
   parallel_for(
       int(groups_.size()),
@@ -600,7 +589,7 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot,
           if (weights > 0 && visible > 0) out.push_back({j, f * visible / weights});
         }
       },
-      stop);
+      shot.stop);
   std::vector<VisibleElement> all;
   for (const auto& g : per_group) all.insert(all.end(), g.begin(), g.end());
   return all;
