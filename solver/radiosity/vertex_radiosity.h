@@ -22,9 +22,11 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
 // The share of each element's area open to the scene rather than buried under or inside
 // other geometry (a floor under a block, a ceiling behind a lamp mounted on it). Buried
 // parts get no light; averaged into a vertex they would darken the open elements beside
-// them (at the Cornell box's block bases, 6 % too dark). Four points per element; a point
-// is buried when rays along its normal and tilted 60 degrees four ways all meet back faces
-// (the inside of a closed object) first. `stop` ends it early, its shares then partial.
+// them (at the Cornell box's block bases, 6 % too dark). A point is buried when most of five
+// rays (along its normal and tilted 60 degrees four ways) meet back faces first: inside a
+// closed object all do; in the pocket a terrain or a floor slab closes off where it meets
+// the walls, the rays that meet the floor beneath do not. Four points per element, 8 x 8
+// where the verdict changes. `stop` ends it early, its shares then partial.
 std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop = {});
 
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
