@@ -90,9 +90,11 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop
         verdict.suspect = true;
         continue;
       }
-      reach += !hit || (fine ? whole[hit->element]
-                             : state[4 * hit->element +
-                                     quarter_of(mesh.elements[hit->element], hit->u, hit->v)]);
+      reach +=
+          !hit ||
+          (fine
+               ? whole[hit->element]
+               : state[4 * hit->element + quarter_of(mesh.elements[hit->element], hit->u, hit->v)]);
     }
     verdict.open = !verdict.suspect || reach >= 2;
     return verdict;

@@ -70,8 +70,8 @@ TEST(OpenShare, ASlabAcrossTheWallsBuriesThePocketBeneathIt) {
     const double expected = e.object == 5 || (wall && high <= slab) ? 0
                             : wall && low < slab                    ? (high - slab) / 0.5
                                                                     : 1;
-    EXPECT_NEAR(open[i], expected, 0.07) << "object " << e.object << " at " << e.centroid.x
-                                         << ", " << e.centroid.y << ", " << e.centroid.z;
+    EXPECT_NEAR(open[i], expected, 0.07) << "object " << e.object << " at " << e.centroid.x << ", "
+                                         << e.centroid.y << ", " << e.centroid.z;
     pocket += wall && high <= slab;
     cut += wall && low < slab && high > slab;
   }
