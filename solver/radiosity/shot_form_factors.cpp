@@ -32,6 +32,9 @@ constexpr std::size_t kLookoutSamples = 64;
 constexpr std::uint32_t kExactElements = 64;
 // Normals closer than this (the cosine between them) face alike.
 constexpr double kSameFacing = 0.9;
+// A patch is curved where its elements' area-weighted normals sum to less than this of its
+// area (their mean cosine to the mean normal): 0.99 is about 8 degrees between them.
+constexpr double kCurved = 0.99;
 
 // Points spread over a shooting patch, at most `most`, each with the part of `weight` (one
 // value per element of the patch: its area or its power) it stands for, as AreaSample::area,
@@ -264,6 +267,7 @@ class HemicubeFormFactors : public ShotFormFactors {
   // The rectangle around them on the shooter's plane, in its frame about the patch centroid.
   Frame near_frame_;
   glm::dvec2 near_lo_{0}, near_hi_{0};
+  bool near_curved_ = false;  // the shooter's elements face apart (kCurved)
   // A grouped element's visibility, blended from up to four lookouts near it (see the
   // constructor): indices in lookouts_ and their weights.
   struct Blend {
@@ -441,6 +445,14 @@ void HemicubeFormFactors::near_points(const Shot& shot) {
   const Patch& patch = mesh_.patches[shot.patch];
   near_points_ = spread_points(mesh_, patch, shot.weight, kNearFieldPoints, 2);
   near_frame_ = frame_about(patch.normal);
+  Vec3 facing(0);
+  double area = 0;
+  for (std::uint32_t k = 0; k < patch.count; ++k) {
+    const Element& e = mesh_.elements[patch.first + k];
+    facing += e.area * e.normal;
+    area += e.area;
+  }
+  near_curved_ = glm::length(facing) < kCurved * area;
   near_lo_ = glm::dvec2(std::numeric_limits<double>::max());
   near_hi_ = -near_lo_;
   for (const AreaSample& s : near_points_) {
@@ -673,15 +685,16 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
 double HemicubeFormFactors::grouped_unoccluded(const Shot& shot, std::uint32_t element) const {
   const Patch& patch = mesh_.patches[shot.patch];
   const Element& e = mesh_.elements[element];
-  // A receiver facing as the shooter does sees little of it (nothing in one plane) either way.
+  // A receiver facing as a flat shooter does, or behind its plane, sees little of it
+  // (nothing in one plane) either way; about a curved one (a hill) it sees its flanks.
   if (patch.count > kExactElements && !near_points_.empty() &&
-      glm::dot(e.normal, patch.normal) < kSameFacing) {
+      (near_curved_ || glm::dot(e.normal, patch.normal) < kSameFacing)) {
     const Vec3 d = e.centroid - patch.centroid;
     const glm::dvec2 at(glm::dot(d, near_frame_.x), glm::dot(d, near_frame_.y));
     const glm::dvec2 out = glm::max(glm::max(near_lo_ - at, at - near_hi_), glm::dvec2(0));
     const double height = glm::dot(d, near_frame_.z);
     const double reach = 2 * std::sqrt(patch.area / double(kRaySamples));
-    if (height > 0 && glm::dot(out, out) + height * height < reach * reach)
+    if ((near_curved_ || height > 0) && glm::dot(out, out) + height * height < reach * reach)
       return std::max(0.0, near_lambert(element, false));
   }
   return rays_->unoccluded(shot.patch, element);
