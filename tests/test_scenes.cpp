@@ -40,6 +40,24 @@ TriangleMeshShape square_of_triangles(const Vec3& corner, int n, bool smooth) {
   return m;
 }
 
+TriangleMeshShape hills(int n, double side, const std::function<double(double, double)>& height) {
+  TriangleMeshShape m;
+  m.smooth = true;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double u = double(i) / n, v = double(j) / n;
+      m.positions.push_back(Vec3(side * u, height(u, v), side * v));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1,
+                          c = a + std::uint32_t(n + 1), d = c + 1;
+      m.triangles.push_back({a, c, b});  // facing up
+      m.triangles.push_back({b, c, d});
+    }
+  return m;
+}
+
 Scene scene_of(std::vector<Object> objects, double rho, double emission) {
   Scene s;
   Material m;

@@ -1,6 +1,7 @@
 // Small scenes built in code for the tests: single quads, closed boxes.
 #pragma once
 
+#include <functional>
 #include <vector>
 
 #include "solver/scene/scene.h"
@@ -13,6 +14,10 @@ Object quad(const std::array<Vec3, 4>& corners, int nu = 1, int nv = 1, int mate
 
 // A 1 x 1 square in z = 0 facing up from `corner`, as an n x n grid of triangle pairs.
 TriangleMeshShape square_of_triangles(const Vec3& corner, int n, bool smooth);
+
+// Smooth hills facing up (+y): an n x n grid of triangle pairs over [0, side]^2 in x and z,
+// the vertex at (u, v) in [0, 1]^2 raised to height(u, v).
+TriangleMeshShape hills(int n, double side, const std::function<double(double, double)>& height);
 
 // An axis-aligned w x h rectangle at height z facing down (-z), centred on the z axis.
 std::array<Vec3, 4> rectangle_facing_down(double w, double h, double z);

@@ -45,24 +45,11 @@ double brute_force(const Mesh& mesh, const RayScene& rays, std::uint32_t pi,
 // from its 256 near points, as a flat patch's neighbours that face across it do: 1.5 % and
 // 5.7 %.
 TEST(ShotFormFactors, ACurvedPatchLightsTheSlopesAroundItAsItsTrianglesDo) {
-  const int n = 60;
   const double side = 6;
-  TriangleMeshShape hills;
-  hills.smooth = true;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) {
-      const double x = side * i / n, z = side * j / n;
-      hills.positions.push_back(Vec3(x, 0.5 * std::sin(1.3 * x) * std::sin(1.1 * z), z));
-    }
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1,
-                          c = a + std::uint32_t(n + 1), d = c + 1;
-      hills.triangles.push_back({a, c, b});  // facing up
-      hills.triangles.push_back({b, c, d});
-    }
   Object ground;
-  ground.shape = hills;
+  ground.shape = test::hills(60, side, [&](double u, double v) {
+    return 0.5 * std::sin(1.3 * side * u) * std::sin(1.1 * side * v);
+  });
   ground.density.element_size = 0.5;
   ground.density.patch_elements = 4;
   Scene s = test::scene_of({ground});
