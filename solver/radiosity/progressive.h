@@ -88,7 +88,7 @@ class ProgressiveSolver {
   std::unique_ptr<ShotFormFactors> form_factors_;
   SpecularTransfer specular_;
   Hemicube hemicube_;
-  std::vector<bool> planar_patch_;  // per patch: its elements nearly in one plane
+  std::vector<bool> curved_patch_;  // per patch: curved() (geometry.h)
   int shots_ = 0;
   MersenneTwister rng_;
   PerturbedMap* map_ = nullptr;

@@ -136,4 +136,14 @@ bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatnes
   return true;
 }
 
+bool curved(const Mesh& mesh, const Patch& patch) {
+  Vec3 facing(0);
+  double area = 0;
+  for (std::uint32_t k = patch.first; k < patch.first + patch.count; ++k) {
+    facing += mesh.elements[k].area * mesh.elements[k].normal;
+    area += mesh.elements[k].area;
+  }
+  return glm::length(facing) < 0.99 * area;
+}
+
 }  // namespace bumprad

@@ -83,12 +83,15 @@ struct Flatness {
 // Exactly one plane, up to rounding: a mirror whose image must be exact, an emitter outline
 // that stands for its elements in Lambert's formula.
 inline constexpr Flatness kOnePlane{1e-9, 1e-9};
-// Flat to about 0.8 degrees, corners anywhere: a patch that shoots from the centre of its
-// power rather than its centroid (a sphere's patches do not).
-inline constexpr Flatness kNearlyFlat{0.0141, 1e300};
 
 // Whether the elements (indices into mesh.elements, at least one) lie in one plane within
 // `tolerance`.
 bool coplanar(const Mesh& mesh, std::span<const std::uint32_t> elements, Flatness tolerance);
+
+// Whether a patch's elements face apart: their area-weighted normals sum to less than 0.99
+// of its area (their mean cosine to the mean normal; 0.99 is about 8 degrees between them).
+// A sphere's or a hill's patch is curved; a gently rolling floor's is not. A curved patch's
+// neighbours see its flanks, and it shoots from its centroid (ProgressiveSolver).
+bool curved(const Mesh& mesh, const Patch& patch);
 
 }  // namespace bumprad

@@ -12,6 +12,7 @@
 #include "solver/radiosity/form_factor_exact.h"
 #include "solver/radiosity/vertex_radiosity.h"
 #include "solver/scene/geometry.h"
+#include "solver/scene/punctual_light.h"
 #include "solver/scene/ray_scene.h"
 #include "tests/test_scenes.h"
 
@@ -473,38 +474,56 @@ TEST(Progressive, FineTrianglesStandingOnALargePatchTakeItsNearLightExactly) {
   EXPECT_NEAR(got_power / exact_power, 1, 0.01);
 }
 
-// A glowing floor patch of two elements, one of them (and the patch's centre) under a
-// block: the patch shoots from its open part, so a receiver behind the block, hidden from
-// every open point of the floor, gets nothing. Shot from the patch centre, inside the block,
-// the hemi-cube saw through the block's walls (their backs face it and are culled).
+// A glowing floor patch, half of it (and the patch's centre) under a block: the patch
+// shoots from its open part, so a receiver behind the block, hidden from every open point
+// of the floor, gets nothing. Shot from the patch centre, inside the block, the hemi-cube
+// saw through the block's walls (their backs face it and are culled). The same for a floor
+// of gently rolling triangles (a curved patch, its normals 4 degrees apart), which shot
+// from its centre until 2026-12-06: the receiver got 4.1e-4 of light.
 TEST(Progressive, APatchShootsFromItsOpenPartNotFromUnderABlock) {
-  const Object floor = glowing_floor(2, 1);
-  Object block;
-  block.shape = BoxShape{Vec3(1.5, 0.5, 0.25), Vec3(1.2, 1.2, 0.5), Vec3(0)};
-  block.density.counts = {2, 2};
-  Object behind = test::quad(
-      {Vec3(2.3, 0.4, 0.1), Vec3(2.3, 0.4, 0.3), Vec3(2.3, 0.6, 0.3), Vec3(2.3, 0.6, 0.1)});
-  Scene s = test::scene_of({floor, block, behind}, 0.5);
-  s.solver.hemicube_resolution = 64;
-  const auto [mesh, radiosity] = shoot_once(s, 0.5);
-  ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 2u) << "the floor is one patch";
-  double block_light = 0, behind_light = 0;
-  for (std::size_t i = 0; i < mesh.elements.size(); ++i)
-    (mesh.elements[i].object == 1 ? block_light : behind_light) +=
-        mesh.elements[i].object == 0 ? 0 : radiosity[i].g * mesh.elements[i].area;
-  std::printf("light on the block %.3g, behind it %.3g\n", block_light, behind_light);
-  EXPECT_GT(block_light, 0.01);
-  EXPECT_EQ(behind_light, 0.0);
+  for (const bool rolling : {false, true}) {
+    Object floor = glowing_floor(2, 1);
+    if (rolling) {
+      TriangleMeshShape m = test::square_of_triangles(Vec3(0), 10, true);
+      for (Vec3& p : m.positions)
+        p = Vec3(2 * p.x, p.y, 0.01 * std::sin(M_PI * p.x) * std::sin(M_PI * p.y));
+      floor.shape = m;
+      floor.density = {};
+      floor.density.element_size = 0.25;
+      floor.density.patch_elements = 20;
+    }
+    Object block;
+    block.shape = BoxShape{Vec3(1.5, 0.5, 0.23), Vec3(1.2, 1.2, 0.5), Vec3(0)};
+    block.density.counts = {2, 2};
+    Object behind = test::quad(
+        {Vec3(2.3, 0.4, 0.1), Vec3(2.3, 0.4, 0.3), Vec3(2.3, 0.6, 0.3), Vec3(2.3, 0.6, 0.1)});
+    Scene s = test::scene_of({floor, block, behind}, 0.5);
+    s.solver.hemicube_resolution = 64;
+    const auto [mesh, radiosity] = shoot_once(s, 0.5);
+    const Patch& patch = mesh.patches[mesh.elements[0].patch];
+    ASSERT_EQ(patch.count, std::count_if(mesh.elements.begin(), mesh.elements.end(),
+                                         [](const Element& e) { return e.object == 0; }))
+        << "the floor is one patch";
+    ASSERT_GT(patch.centroid.x, 0.9) << "under the block";
+    double block_light = 0, behind_light = 0;
+    for (std::size_t i = 0; i < mesh.elements.size(); ++i)
+      (mesh.elements[i].object == 1 ? block_light : behind_light) +=
+          mesh.elements[i].object == 0 ? 0 : radiosity[i].g * mesh.elements[i].area;
+    std::printf("%s floor: light on the block %.3g, behind it %.3g\n", rolling ? "rolling" : "flat",
+                block_light, behind_light);
+    EXPECT_GT(block_light, 0.01);
+    EXPECT_EQ(behind_light, 0.0);
+  }
 }
 
 // A glowing floor patch of two 1 m elements, the second under a block, and a receiver above
 // the open one that a 32-pixel hemi-cube sees in a fraction of a pixel, so rays from the
 // patch give its form factor: 20 cm at 6 m, and 10 cm at 3 m, within the patch's near field
 // (which the rays once skipped: the receiver got nothing). They weigh the patch's points by
-// their open area: the patch's power (2 E: a patch shoots all it holds from its open part)
-// leaves the open element, and the receiver (rho 0.5) gets rho 2 E F(receiver -> open
-// element), Lambert's closed form, within 2 % (weighed by the whole area the buried
-// element's rays, all hidden, took half of it away).
+// the power each shoots, here as their open area: the patch's power (2 E: a patch shoots all it
+// holds from its open part) leaves the open element, and the receiver (rho 0.5) gets rho 2 E
+// F(receiver -> open element), Lambert's closed form, within 2 % (weighed by the whole area the
+// buried element's rays, all hidden, took half of it away).
 TEST(Progressive, RaysFromAHalfBuriedPatchCountItsOpenHalf) {
   for (const auto& [size, height] : {std::pair{0.2, 6.0}, std::pair{0.1, 3.0}}) {
     const Object floor = glowing_floor(2, 1);
@@ -521,6 +540,62 @@ TEST(Progressive, RaysFromAHalfBuriedPatchCountItsOpenHalf) {
     const double exact = point_to_polygon(Vec3(0.5, 0.5, height), Vec3(0, 0, -1), open);
     EXPECT_NEAR(radiosity.back().g / exact, 1, 0.02) << height << " m up";
   }
+}
+
+// A 2 x 1 m floor of one patch, lit at one end by a lamp, its other end under a block that
+// floats 2 cm over it: open there (rays escape through the gap) but dark. Over the lit end
+// hangs a ceiling of fine triangles, which receive as groups (from the patch's rays), and
+// which the block hides from the floor beneath it. The floor's shot sends the ceiling the
+// light of its lit end: each ceiling element's gain, exactly, is its reflectance times the
+// sum over the floor's elements it sees of the radiosity each shoots times Lambert's form
+// factor. Rays weighed by open area spread the patch's power over its dark end too, half of
+// their samples hidden from the ceiling. Measured: 0.975 of it; 0.65 weighed by area.
+TEST(Progressive, RaysFromAPatchLitAtOneEndLeaveFromThatEnd) {
+  Object floor = test::quad({Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 1, 0), Vec3(0, 1, 0)}, 20, 10);
+  floor.density.patch_elements = 20;
+  Object block;
+  block.shape = BoxShape{Vec3(1.5, 0.5, 0.27), Vec3(1, 1.2, 0.5), Vec3(0)};
+  Object ceiling;
+  ceiling.shape = test::square_of_triangles(Vec3(0, 0, 1), 40, false);
+  ceiling.flip_normals = true;
+  ceiling.material = 1;
+  Scene s = test::scene_of({floor, block, ceiling}, 0.8);
+  s.materials.push_back(s.materials[0]);
+  s.materials[1].reflectance = Rgb(0.2);
+  PunctualLight lamp;
+  lamp.position = Vec3(0.5, 0.5, 0.3);
+  lamp.intensity = Rgb(1);
+  s.lights = {lamp};
+  const Mesh mesh = build_mesh(s);
+  ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 200u) << "the floor is one patch";
+  const RayScene rays(mesh);
+  const std::vector<double> open = open_share(mesh, rays);
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open);
+  solver.shine(punctual_sources(s.lights, {}), rays);
+  const std::vector<Rgb> before = solver.radiosity(), shoots = solver.display_radiosity();
+  ASSERT_TRUE(solver.shoot());
+  const std::vector<Rgb> after = solver.radiosity();
+  const double offset = centroid_ray_offset(mesh);
+  double got = 0, exact = 0, under = 0;
+  for (std::uint32_t j = 0; j < mesh.elements.size(); ++j) {
+    const Element& r = mesh.elements[j];
+    if (r.object == 0 && r.centroid.x > 1.1) under += open[j] / 90;
+    if (r.object != 2) continue;
+    got += (after[j].g - before[j].g) * r.area;
+    std::array<Vec3, 4> corners;
+    for (std::uint32_t k = 0; k < mesh.elements.size(); ++k) {
+      const Element& f = mesh.elements[k];
+      if (f.object != 0) continue;
+      const Vec3 from = r.centroid + r.normal * offset, to = f.centroid + f.normal * offset;
+      if (rays.occluded({from, glm::normalize(to - from)}, glm::length(to - from))) continue;
+      exact += 0.2 * shoots[k].g * r.area *
+               point_to_polygon(r.centroid, r.normal, element_corners(mesh, f, corners));
+    }
+  }
+  std::printf("floor beneath the block open %.2f; the ceiling's gain %.4g, exact %.4g (%.3f)\n",
+              under, got, exact, got / exact);
+  ASSERT_GT(under, 0.9) << "the floor beneath the block is open";
+  EXPECT_NEAR(got / exact, 1, 0.05);
 }
 
 // A glowing 2 x 1 m floor of one patch and a ceiling of the same size over it, nothing
