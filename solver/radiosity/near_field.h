@@ -30,6 +30,7 @@ class NearField {
 
   struct Term {
     std::uint32_t element;    // of another surface, facing the vertex's elements
+    float radius;             // the element's: how far its farthest corner lies from its centroid
     double mean_form_factor;  // from the vertex's elements, averaged as its value is
   };
   std::span<const Term> terms(std::uint32_t vertex) const {

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <numbers>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -117,6 +119,24 @@ class PatchRays {
   double form_factor(std::uint32_t patch, std::uint32_t element) const;
   // The same were nothing in the way.
   double unoccluded(std::uint32_t patch, std::uint32_t element) const;
+  // The same for the elements of a group far from the patch, as a field quadratic in their
+  // positions (see the definition); none if the group is not that far.
+  struct Field {
+    Vec3 at, value;
+    std::array<Vec3, 3> slope, curve, twist;  // d/dx_i; d2/dx_i2; d2/dx dy, dx dz, dy dz
+    double scale;                             // 1 / the patch's area
+    // F from the patch to an element of the group.
+    double operator()(const Element& e) const {
+      const Vec3 u = e.centroid - at;
+      const Vec3 v =
+          value + slope[0] * u.x + slope[1] * u.y + slope[2] * u.z +
+          0.5 * (curve[0] * (u.x * u.x) + curve[1] * (u.y * u.y) + curve[2] * (u.z * u.z)) +
+          twist[0] * (u.x * u.y) + twist[1] * (u.x * u.z) + twist[2] * (u.y * u.z);
+      return scale * e.area * glm::dot(e.normal, v);
+    }
+  };
+  std::optional<Field> unoccluded_field(std::uint32_t patch, const ElementRun& group, double radius,
+                                        double spread) const;
   // The share of the weighed patch's samples in view from `element` (NaN if none faces it),
   // by its kRaySamples or, for a lookout, its kLookoutSamples.
   enum class Samples { Receiver, Lookout };
@@ -158,6 +178,67 @@ double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
     f = ray_cast_form_factor(e.centroid, e.normal, shot_samples_, nullptr, 0);
   }
   return f * e.area / p.area;
+}
+
+// Far from the samples, a group's unoccluded form factors need not be summed over them
+// element by element: with every sample in front of every element, Wallace's sum is
+// n . V(x), V(x) = sum of a_s cos_s w_s / (pi r_s^2 + a_s) over the samples (w_s the unit
+// vector to sample s), and V is smooth over the group. Its values at the group's centre and
+// ten points a radius about it fit a quadratic field, whose error falls as
+// (radius / distance)^3. Against the elements' own sums, over every shot of
+// bumprad-bench-scale's 100k-triangle room: 0.09 % RMS beyond 8 radii (0.15 % beyond 6,
+// 0.5 % beyond 4; a linear field 0.5 % beyond 8), where a group of about 300 triangles
+// took 11 sums instead of 300 (the loop had been a sixth of the solve; 7.25 -> 5.8 s). A sample
+// near an element's horizon or its own (where the sum's clamped cosines bend), too close, or a
+// shooter that takes Lambert's exact values there (unoccluded()) leaves the group to its own sums;
+// so do groups of kFieldElements or fewer, where the field saves nothing.
+constexpr double kFarSizes = 8;
+constexpr std::uint32_t kFieldElements = 16;
+std::optional<PatchRays::Field> PatchRays::unoccluded_field(std::uint32_t patch,
+                                                            const ElementRun& group, double radius,
+                                                            double spread) const {
+  const Patch& p = mesh_.patches[patch];
+  if (group.first >= p.first && group.first < p.first + p.count) return std::nullopt;
+  if (p.count <= kExactElements &&
+      glm::length(group.centroid - p.centroid) < near_field_radius(p) + radius)
+    return std::nullopt;  // unoccluded() takes Lambert's exact values there
+  for (const AreaSample& s : shot_samples_) {
+    const Vec3 d = s.point - group.centroid;
+    const double r = glm::length(d);
+    if (!(r > kFarSizes * radius)) return std::nullopt;
+    const double margin = radius / r;
+    const double cos_s = -glm::dot(s.normal, d) / r, cos_r = glm::dot(group.normal, d) / r;
+    const bool behind = cos_s < -margin || cos_r < -(margin + spread);
+    if (!behind && (cos_s < margin || cos_r < margin + spread)) return std::nullopt;
+  }
+  auto sum = [&](const Vec3& x) {
+    Vec3 v(0);
+    for (const AreaSample& s : shot_samples_) {
+      const Vec3 d = s.point - x;
+      const double r2 = glm::dot(d, d);
+      const Vec3 w = d / std::sqrt(r2);
+      const double cos_s = -glm::dot(s.normal, w);
+      if (cos_s > 0 && glm::dot(group.normal, w) > 0)
+        v += cos_s * s.area / (std::numbers::pi * r2 + s.area) * w;  // Wallace eq. 9
+    }
+    return v;
+  };
+  const Vec3& c = group.centroid;
+  const double h = radius;
+  Field field{c, sum(c), {}, {}, {}, 1 / p.area};
+  std::array<Vec3, 3> up, step{Vec3(h, 0, 0), Vec3(0, h, 0), Vec3(0, 0, h)};
+  for (int i = 0; i < 3; ++i) {
+    up[i] = sum(c + step[i]);
+    const Vec3 down = sum(c - step[i]);
+    field.slope[i] = (up[i] - down) / (2 * h);
+    field.curve[i] = (up[i] - 2.0 * field.value + down) / (h * h);
+  }
+  const std::array<std::pair<int, int>, 3> pairs{{{0, 1}, {0, 2}, {1, 2}}};
+  for (int k = 0; k < 3; ++k) {
+    const auto [i, j] = pairs[k];
+    field.twist[k] = (sum(c + step[i] + step[j]) - up[i] - up[j] + field.value) / (h * h);
+  }
+  return field;
 }
 
 double PatchRays::visible_share(std::uint32_t element, Samples which) const {
@@ -259,6 +340,7 @@ class HemicubeFormFactors : public ShotFormFactors {
                                           std::span<const std::uint32_t> near) const;
   std::vector<VisibleElement> grouped(const Shot& shot) const;
   double grouped_unoccluded(const Shot& shot, std::uint32_t element) const;
+  double beyond_near_points(const Shot& shot, const Vec3& at) const;
 
   const Mesh& mesh_;
   const RayScene* scene_rays_;
@@ -280,7 +362,13 @@ class HemicubeFormFactors : public ShotFormFactors {
   void find_lookouts(std::span<const double> open);
   void blend_lookouts(std::stop_token stop);
 
-  std::vector<std::uint32_t> groups_;         // the groups of more than one element
+  std::vector<std::uint32_t> groups_;  // the groups of more than one element
+  // Per group in groups_: the farthest of its vertices from its centroid, and the farthest
+  // of its elements' normals from its own (the length of their difference).
+  struct GroupBounds {
+    double radius = 0, spread = 0;
+  };
+  std::vector<GroupBounds> group_bounds_;
   std::vector<std::uint32_t> lookouts_;       // elements whose rays sample the groups' visibility
   std::vector<std::uint32_t> first_lookout_;  // per group in groups_ and one past: in lookouts_
   std::vector<Blend> blends_;                 // per grouped element, groups_' elements in order
@@ -343,6 +431,16 @@ void HemicubeFormFactors::find_lookouts(std::span<const double> open) {
         for (std::size_t r = 0; r < 4; ++r)
           if (std::isfinite(best[r])) lookout[q] = lookout[r];
     std::sort(lookout.begin(), lookout.end());
+    GroupBounds bounds;
+    for (std::uint32_t i = group.first; i < group.first + group.count; ++i) {
+      const Element& e = mesh_.elements[i];
+      for (int v = 0; v < e.vertex_count; ++v)
+        bounds.radius =
+            std::max(bounds.radius,
+                     glm::length(mesh_.vertices[e.v[std::size_t(v)]].position - group.centroid));
+      bounds.spread = std::max(bounds.spread, glm::length(e.normal - group.normal));
+    }
+    group_bounds_.push_back(bounds);
     groups_.push_back(g);
     first_lookout_.push_back(std::uint32_t(lookouts_.size()));
     lookouts_.insert(lookouts_.end(), lookout.begin(), std::unique(lookout.begin(), lookout.end()));
@@ -585,9 +683,15 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
       int(groups_.size()),
       [&](int k) {
         const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
+        const GroupBounds& bounds = group_bounds_[std::size_t(k)];
         std::vector<VisibleElement>& out = per_group[std::size_t(k)];
+        std::optional<PatchRays::Field> field;
+        if (group.count > kFieldElements &&
+            beyond_near_points(shot, group.centroid) > bounds.radius)
+          field = rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread);
         for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
-          const double f = grouped_unoccluded(shot, j) * (open_.empty() ? 1 : open_[j]);
+          const double f = (field ? (*field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
+                           (open_.empty() ? 1 : open_[j]);
           if (!(f > 0)) continue;
           const Blend& b = blends_[first_blend_[std::size_t(k)] + j - group.first];
           double visible = 0, weights = 0;
@@ -683,17 +787,26 @@ double HemicubeFormFactors::grouped_unoccluded(const Shot& shot, std::uint32_t e
   const Element& e = mesh_.elements[element];
   // A receiver facing as a flat shooter does, or behind its plane, sees little of it
   // (nothing in one plane) either way; about a curved one (a hill) it sees its flanks.
-  if (patch.count > kExactElements && !near_points_.empty() &&
-      (near_curved_ || glm::dot(e.normal, patch.normal) < kSameFacing)) {
-    const Vec3 d = e.centroid - patch.centroid;
-    const glm::dvec2 at(glm::dot(d, near_frame_.x), glm::dot(d, near_frame_.y));
-    const glm::dvec2 out = glm::max(glm::max(near_lo_ - at, at - near_hi_), glm::dvec2(0));
-    const double height = glm::dot(d, near_frame_.z);
-    const double reach = 2 * std::sqrt(patch.area / double(kRaySamples));
-    if ((near_curved_ || height > 0) && glm::dot(out, out) + height * height < reach * reach)
-      return std::max(0.0, near_lambert(element, false));
-  }
+  if (beyond_near_points(shot, e.centroid) < 0 &&
+      (near_curved_ || glm::dot(e.normal, patch.normal) < kSameFacing) &&
+      (near_curved_ || glm::dot(e.centroid - patch.centroid, near_frame_.z) > 0))
+    return std::max(0.0, near_lambert(element, false));
   return rays_->unoccluded(shot.patch, element);
+}
+
+// How far `at` lies beyond the reach of the shooter's near points: two spacings of its ray
+// samples from the rectangle the near points span on its plane; negative within it, and
+// infinite for a shooter that takes no near points (kExactElements or fewer elements).
+double HemicubeFormFactors::beyond_near_points(const Shot& shot, const Vec3& at) const {
+  const Patch& patch = mesh_.patches[shot.patch];
+  if (patch.count <= kExactElements || near_points_.empty()) return INFINITY;
+  const Vec3 d = at - patch.centroid;
+  const glm::dvec2 in_plane(glm::dot(d, near_frame_.x), glm::dot(d, near_frame_.y));
+  const glm::dvec2 out =
+      glm::max(glm::max(near_lo_ - in_plane, in_plane - near_hi_), glm::dvec2(0));
+  const double height = glm::dot(d, near_frame_.z);
+  const double reach = 2 * std::sqrt(patch.area / double(kRaySamples));
+  return std::sqrt(glm::dot(out, out) + height * height) - reach;
 }
 
 }  // namespace

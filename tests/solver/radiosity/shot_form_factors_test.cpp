@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -97,6 +98,61 @@ TEST(ShotFormFactors, ACurvedPatchLightsTheSlopesAroundItAsItsTrianglesDo) {
   ASSERT_GE(curved, 10);
   EXPECT_NEAR(all_found / all_exact, 1, 0.025);
   EXPECT_LT(worst, 0.08);
+}
+
+// Groups of fine triangles far from a shooter take their unoccluded form factors from a
+// quadratic field fitted to the shooter's samples at eleven points about each group, not
+// from the samples for each triangle. A 1 m square of 100 elements (one patch) and, 1.5 m
+// over it and 1 m aside, facing down, a square of 3,200 triangles in 36 groups,
+// whose radii fit 8 times into their distance from the samples, not much more: each
+// triangle's form factor against brute force (each of the shooter's elements exact).
+// Measured: RMS 0.54 % per triangle, worst 0.80 %, all 0.995 of brute force; from the
+// samples for each triangle 0.54 %, 0.71 %, 0.995; from a linear field 0.54 %, 1.25 %.
+TEST(ShotFormFactors, FarGroupsTakeTheirTrianglesFormFactorsFromAField) {
+  Object shooter = test::quad(test::rectangle_facing_down(1, 1, 0), 10, 10);
+  for (Vec3& c : std::get<QuadShape>(shooter.shape).corners) c = Vec3(c.x, c.y, -c.z);
+  std::swap(std::get<QuadShape>(shooter.shape).corners[1],
+            std::get<QuadShape>(shooter.shape).corners[3]);
+  shooter.density.patch_elements = 10;
+  Object receiver;
+  receiver.shape = test::square_of_triangles(Vec3(0.5, -0.5, 1.5), 40, false);
+  receiver.flip_normals = true;
+  const Scene s = test::scene_of({shooter, receiver});
+  const Mesh mesh = build_mesh(s);
+  ASSERT_GT(mesh.elements[0].normal.z, 0.99) << "the shooter faces up";
+  ASSERT_EQ(mesh.patches[0].count, 100u) << "the shooter is one patch";
+  const RayScene rays(mesh);
+  const std::vector<double> open = open_share(mesh, rays);
+  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, open);
+  Hemicube hemicube(mesh, s.solver.hemicube_resolution);
+  const Patch& patch = mesh.patches[0];
+  std::vector<double> weight(patch.count);
+  for (std::uint32_t k = 0; k < patch.count; ++k) weight[k] = mesh.elements[k].area;
+  const Shot shot{0, patch.centroid + patch.normal * hemicube_lift(mesh), weight};
+  form_factors->begin(shot);
+  hemicube.render(shot.origin, frame_about(patch.normal), 0);
+  std::vector<double> f(mesh.elements.size(), 0);
+  for (const VisibleElement& v : form_factors->find(shot, hemicube, false))
+    f[v.element] += v.form_factor;
+  double squares = 0, worst = 0, found = 0, exact = 0;
+  int count = 0;
+  std::set<std::uint32_t> groups;
+  for (std::uint32_t j = 0; j < mesh.elements.size(); ++j) {
+    if (mesh.elements[j].object != 1) continue;
+    groups.insert(mesh.elements[j].group);
+    const double b = brute_force(mesh, rays, 0, j);
+    ASSERT_GT(b, 0);
+    squares += (f[j] / b - 1) * (f[j] / b - 1);
+    worst = std::max(worst, std::abs(f[j] / b - 1));
+    found += f[j], exact += b;
+    ++count;
+  }
+  const double rms = std::sqrt(squares / count);
+  std::printf("%d triangles in %zu groups: RMS %.2f %%, worst %.2f %%; all %.4f of brute force\n",
+              count, groups.size(), 100 * rms, 100 * worst, found / exact);
+  EXPECT_LT(rms, 0.0075);
+  EXPECT_LT(worst, 0.01);
+  EXPECT_NEAR(found / exact, 1, 0.008);
 }
 
 }  // namespace
