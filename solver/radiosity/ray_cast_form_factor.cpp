@@ -1,7 +1,5 @@
 #include "solver/radiosity/ray_cast_form_factor.h"
 
-#include <numbers>
-
 #include <glm/geometric.hpp>
 
 namespace bumprad {
@@ -25,7 +23,7 @@ double ray_cast_form_factor(const Vec3& receiver, const Vec3& receiver_normal,
       double length = glm::length(path);
       if (length > 0 && rays->occluded({from, path / length}, length)) continue;
     }
-    f += cos_r * cos_s * s.area / (std::numbers::pi * r2 + s.area);  // Wallace eq. 9
+    f += wallace_term(cos_r, cos_s, s.area, r2);
   }
   return f;
 }

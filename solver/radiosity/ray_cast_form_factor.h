@@ -4,6 +4,7 @@
 // fallback where the hemi-cube aliases.
 #pragma once
 
+#include <numbers>
 #include <span>
 
 #include "solver/scene/ray_scene.h"
@@ -18,6 +19,12 @@ struct AreaSample {
   double area;
   Vec3 normal;
 };
+
+// One sample's term of the sum below, cos(theta_r) cos(theta_k) dA_k / (pi r_k^2 + dA_k)
+// (Wallace eq. 9), the cosines already known to be positive.
+inline double wallace_term(double cos_r, double cos_s, double area, double r2) {
+  return cos_r * cos_s * area / (std::numbers::pi * r2 + area);
+}
 
 // F(dA_r -> A_s) = sum_k V_k cos(theta_r) cos(theta_k) dA_k / (pi r_k^2 + dA_k) (Wallace
 // eq. 9): the dA_k term keeps a sample's contribution finite as r -> 0, where the point-to-

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <future>
 #include <limits>
-#include <numbers>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
@@ -218,8 +217,7 @@ std::optional<PatchRays::Field> PatchRays::unoccluded_field(std::uint32_t patch,
       const double r2 = glm::dot(d, d);
       const Vec3 w = d / std::sqrt(r2);
       const double cos_s = -glm::dot(s.normal, w);
-      if (cos_s > 0 && glm::dot(group.normal, w) > 0)
-        v += cos_s * s.area / (std::numbers::pi * r2 + s.area) * w;  // Wallace eq. 9
+      if (cos_s > 0 && glm::dot(group.normal, w) > 0) v += wallace_term(1, cos_s, s.area, r2) * w;
     }
     return v;
   };
