@@ -1,11 +1,14 @@
 #include "solver/radiosity/form_factor_exact.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
+
+#include "solver/scene/geometry.h"
 
 namespace bumprad {
 namespace {
@@ -91,6 +94,27 @@ Vec3 polygon_vector(const Vec3& point, std::span<const Vec3> polygon) {
   const Vec3 plane = glm::cross(polygon[1] - polygon[0], polygon[2] - polygon[0]);
   if ((glm::dot(sum, plane) < 0) != (glm::dot(polygon[0] - point, plane) < 0)) sum = -sum;
   return sum / (2 * std::numbers::pi);
+}
+
+double point_to_element(const Mesh& mesh, const Element& e, double radius, const Vec3& point,
+                        const Vec3& normal) {
+  const Vec3 d = e.centroid - point;
+  const double r2 = glm::dot(d, d);
+  if (!(r2 > kSmallPatchRadii * kSmallPatchRadii * radius * radius)) {
+    if (glm::dot(d, e.normal) >= 0) return 0;
+    std::array<Vec3, 4> storage;
+    return point_to_polygon(point, normal, element_corners(mesh, e, storage));
+  }
+  const double cos_r = glm::dot(normal, d), cos_s = -glm::dot(e.normal, d);
+  return cos_r > 0 && cos_s > 0 ? e.area * cos_r * cos_s / (std::numbers::pi * r2 * r2) : 0;
+}
+
+double element_radius(const Mesh& mesh, const Element& e) {
+  double radius = 0;
+  for (int k = 0; k < e.vertex_count; ++k)
+    radius = std::max(
+        radius, double(glm::length(mesh.vertices[e.v[std::size_t(k)]].position - e.centroid)));
+  return radius;
 }
 
 double parallel_rectangles(double a, double b, double c) {

@@ -4,6 +4,7 @@
 
 #include <span>
 
+#include "solver/scene/mesh.h"
 #include "solver/scene/scene.h"
 
 namespace bumprad {
@@ -12,6 +13,22 @@ namespace bumprad {
 // integral), after clipping the polygon to the half-space the normal faces. Any receiver
 // normal is allowed, so this is also the exact perturbed form factor at any tilt.
 double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon);
+
+// Differential area at `point` with unit `normal` to element `e` of `mesh`, one-sided (zero
+// from behind it): point_to_polygon near it, and beyond kSmallPatchRadii of its `radius`
+// (element_radius()) a small patch's A cos cos / (pi r^2), off by at most 1.5 (radius / r)^2
+// (2.3 % where it takes over; most where the element is seen at grazing angles), for a few
+// multiplications where Lambert's formula takes an arc cosine per edge. Near-field sums meet
+// thousands of fine elements a few of their radii away: a wall's vertex beside the 100k
+// room's floor (bumprad-bench-scale) holds 1,650 of its triangles in its near set (the view
+// pass 1.8 -> 0.6 s), a shooter's 256 near points reach every floor triangle near it (solve
+// 5.7 -> 5.0 s). At 4 radii the furnace's worst element (progressive_test) went 1.48 -> 1.61 %.
+constexpr double kSmallPatchRadii = 8;
+double point_to_element(const Mesh& mesh, const Element& e, double radius, const Vec3& point,
+                        const Vec3& normal);
+
+// The largest distance from an element's centroid to its corners.
+double element_radius(const Mesh& mesh, const Element& e);
 
 // The polygon's vector form factor at `point` (Arvo 1994's irradiance vector over pi): for
 // every unit normal N whose plane leaves the whole polygon in front, point_to_polygon(point,

@@ -24,32 +24,6 @@ constexpr double kReach = 1.5;
 // would hide is then a division by almost nothing.
 constexpr double kMaxCovered = 0.9;
 
-// Lambert's form factor from a point to element `e` of `mesh`, which is one-sided: zero
-// from behind it.
-double form_factor(const Mesh& mesh, const Element& e, const Vec3& point, const Vec3& normal) {
-  if (glm::dot(e.normal, point - e.centroid) <= 0) return 0;
-  std::array<Vec3, 4> storage;
-  return point_to_polygon(point, normal, element_corners(mesh, e, storage));
-}
-
-// Beyond this many of its radii from a point, an element's form factor is taken as a small
-// patch's, A cos cos / (pi r^2), not Lambert's: a coarse element's vertex beside a finely
-// meshed surface (a wall's foot by a floor of 100k triangles) holds a thousand or more of
-// its triangles in its near set, and Lambert's arc cosines per edge took the 100k room's view
-// pass to 1.8 s (0.3 s at 10k); 0.6-0.9 s so, its image 0.003 % RMS from Lambert's. The
-// small patch's value is off by about (radius / r)^2.
-constexpr double kSmallPatchRadii = 4;
-
-double small_or_exact_form_factor(const Mesh& mesh, const Element& e, float radius,
-                                  const Vec3& point, const Vec3& normal) {
-  const Vec3 d = e.centroid - point;
-  const double r2 = glm::dot(d, d);
-  if (!(r2 > kSmallPatchRadii * kSmallPatchRadii * double(radius) * radius))
-    return form_factor(mesh, e, point, normal);
-  const double cos_r = glm::dot(normal, d), cos_s = -glm::dot(e.normal, d);
-  return cos_r > 0 && cos_s > 0 ? e.area * cos_r * cos_s / (std::numbers::pi * r2 * r2) : 0;
-}
-
 // Points standing for equal parts of an element: 4 x 4 of a quad, 3 x 3 of a triangle (half
 // a quad's area) (part_points). The form factor to a nearby element changes fast across a
 // receiver beside it; sixteen points average it to about 1 %.
@@ -139,11 +113,8 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
   const VertexElements adjacent(mesh);
   std::vector<double> radius(element_count), sizes(element_count);
   for (std::size_t i = 0; i < element_count; ++i) {
-    const Element& e = mesh.elements[i];
-    for (int k = 0; k < e.vertex_count; ++k)
-      radius[i] = std::max(radius[i],
-                           glm::length(mesh.vertices[e.v[std::size_t(k)]].position - e.centroid));
-    sizes[i] = std::sqrt(e.area);
+    radius[i] = element_radius(mesh, mesh.elements[i]);
+    sizes[i] = std::sqrt(mesh.elements[i].area);
   }
   std::nth_element(sizes.begin(), sizes.begin() + long(element_count / 2), sizes.end());
   const ElementGrid grid(mesh, std::max(kReach * sizes[element_count / 2], mesh.diagonal() / 256));
@@ -196,7 +167,7 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
             const Element& e = mesh.elements[around[a]];
             double mean = 0;
             for (const Vec3& q : points[a])
-              mean += small_or_exact_form_factor(mesh, ej, float(radius[j]), q, e.normal);
+              mean += point_to_element(mesh, ej, radius[j], q, e.normal);
             sum += e.area * mean / double(points[a].size());
           }
           if (sum > 0) {
@@ -237,7 +208,7 @@ Rgb NearFieldShading::correction(const Element& element, const std::array<double
     for (std::size_t i = 0; i < seen_count; ++i)
       if (seen[i].first == j) return seen[i].second;
     const double f =
-        small_or_exact_form_factor(near_.mesh(), near_.mesh().elements[j], t.radius, point, normal);
+        point_to_element(near_.mesh(), near_.mesh().elements[j], t.radius, point, normal);
     if (seen_count < seen.size()) seen[seen_count++] = {j, f};
     return f;
   };

@@ -583,16 +583,15 @@ HemicubeFormFactors::NearValue HemicubeFormFactors::near_field(const Shot& shot,
 // `occluded`, nor do those a shadow ray from the receiver's centre does not reach.
 // -1 if the shooter shoots nothing.
 double HemicubeFormFactors::near_lambert(std::uint32_t element, bool occluded) const {
-  std::array<Vec3, 4> storage;
   const Element& e = mesh_.elements[element];
-  std::span<const Vec3> receiver = element_corners(mesh_, e, storage);
+  const double radius = element_radius(mesh_, e);
   const double offset = centroid_ray_offset(mesh_);
   const Vec3 from = e.centroid + e.normal * offset;
   double mean = 0, weights = 0;
   for (const auto& [point, w, normal] : near_points_) {
     weights += w;
     if (glm::dot(e.normal, point - e.centroid) <= offset) continue;  // behind, or in its plane
-    const double f = point_to_polygon(point, normal, receiver);
+    const double f = point_to_element(mesh_, e, radius, point, normal);
     if (!(f > 0)) continue;
     if (occluded) {
       const Vec3 path = point + normal * offset - from;

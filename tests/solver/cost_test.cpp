@@ -51,7 +51,7 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
   const CostEstimate tolerant = estimate_cost(more);
   EXPECT_GT(tolerant.solve_s, base.solve_s);
   EXPECT_NE(tolerant.solve_terms.find("up to 4 error estimates"), std::string::npos)
-      << tolerant.solve_terms;  // 0.2 % down to 1e-4: 1 + ceil(log3 20)
+      << tolerant.solve_terms;  // 0.1 % down to 1e-4: 1 + ceil(log3 10)
 }
 
 // The built-in scenes solve and render in 4-12 s here (README); the estimate must not be
