@@ -33,6 +33,7 @@ class NearField {
     float radius;             // the element's: how far its farthest corner lies from its centroid
     double mean_form_factor;  // from the vertex's elements, averaged as its value is
   };
+  // A vertex's terms, in the order of their elements.
   std::span<const Term> terms(std::uint32_t vertex) const {
     return {terms_.data() + first_[vertex], terms_.data() + first_[vertex + 1]};
   }
