@@ -150,8 +150,9 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
         const std::uint32_t surface = mesh.elements[around.front()].surface;
         std::vector<std::uint32_t> candidates;
         grid.near(p, kReach * size, candidates);
+        // Most vertices (inside a surface, away from others) have no near set: their
+        // elements' points are made for the first candidate.
         std::vector<std::vector<Vec3>> points;
-        for (std::uint32_t i : around) points.push_back(area_points(mesh, mesh.elements[i]));
         std::vector<Term>& terms = per_vertex[v];
         double covered = 0;
         for (std::uint32_t j : candidates) {
@@ -161,6 +162,8 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
             continue;
           // Averaged as vertex_radiosity() averages: each element's whole area, over the open
           // area (a buried point lies behind the faces that bury it and sees none of them).
+          if (points.empty())
+            for (std::uint32_t i : around) points.push_back(area_points(mesh, mesh.elements[i]));
           double sum = 0;
           for (std::size_t a = 0; a < around.size(); ++a) {
             const Element& e = mesh.elements[around[a]];

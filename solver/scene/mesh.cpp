@@ -151,6 +151,14 @@ int triangle_subdivisions(const TriangleMeshShape& m, const std::array<std::uint
 
 namespace {
 
+// Room for `more` in `v` at once, at least doubling: a 100k-triangle mesh grown vertex by
+// vertex spent more time copying than placing them, and a reserve of exactly what is
+// needed, surface after surface, would copy on every one.
+template <typename T>
+void reserve_more(std::vector<T>& v, std::size_t more) {
+  if (v.size() + more > v.capacity()) v.reserve(std::max(v.size() + more, 2 * v.capacity()));
+}
+
 // What a triangle mesh's vertex brings to weld() beyond its position: a shading normal
 // that must agree too (zero: none); the angle its triangle spans there, by which weld()
 // averages the tangents it merges (zero: the first vertex's are kept); and whether its
@@ -177,10 +185,13 @@ class SurfaceBuilder {
 
   bool stopped() const { return stop_.stop_requested(); }
 
-  void begin_surface() {
+  // `vertices`: about how many the surface will add, reserved at once.
+  void begin_surface(std::size_t vertices = 0) {
     surface_ = mesh_.surface_count++;
     first_vertex_ = std::uint32_t(mesh_.vertices.size());
     corners_.clear();
+    reserve_more(mesh_.vertices, vertices);
+    corners_.reserve(vertices);
   }
 
   std::uint32_t add_vertex(const Vec3& p, glm::dvec2 uv, const Vec3& dpdu, const Vec3& dpdv,
@@ -190,7 +201,8 @@ class SurfaceBuilder {
     return std::uint32_t(mesh_.vertices.size() - 1);
   }
 
-  // Merges coincident vertices added since begin_surface() (sort-and-sweep along x); with
+  // Merges coincident vertices added since begin_surface() (sorted by x, then y and z, and
+  // swept along x); with
   // `match_uv` or `match_shading`, only those whose (u, v) and mirroring or shading normals
   // agree too.
   void weld(bool match_uv = false, bool match_shading = false) {
@@ -199,8 +211,18 @@ class SurfaceBuilder {
     std::vector<std::uint32_t> order(n);
     for (std::uint32_t i = 0; i < n; ++i) order[i] = remap_[i] = first_vertex_ + i;
     auto& vs = mesh_.vertices;
-    std::sort(order.begin(), order.end(),
-              [&](auto a, auto b) { return vs[a].position.x < vs[b].position.x; });
+    std::sort(order.begin(), order.end(), [&](auto a, auto b) {
+      const Vec3 &p = vs[a].position, &q = vs[b].position;
+      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    });
+    // Where each run of vertices of one x ends. Within a run y only grows, so a vertex's
+    // sweep leaves its run once y is past the tolerance: a grid's column (all of one x) had
+    // been swept whole for each of its vertices.
+    std::vector<std::uint32_t> run_end(n);
+    for (std::uint32_t i = n; i-- > 0;)
+      run_end[i] = i + 1 < n && vs[order[i + 1]].position.x == vs[order[i]].position.x
+                       ? run_end[i + 1]
+                       : i + 1;
     for (std::uint32_t i = 0; i < n; ++i) {
       if (stopped()) return;
       std::uint32_t a = order[i];
@@ -208,6 +230,10 @@ class SurfaceBuilder {
       for (std::uint32_t j = i + 1; j < n; ++j) {
         std::uint32_t b = order[j];
         if (vs[b].position.x - vs[a].position.x > weld_tol_) break;
+        if (j < run_end[i] && vs[b].position.y - vs[a].position.y > weld_tol_) {
+          j = run_end[i] - 1;
+          continue;
+        }
         if (glm::length(vs[b].position - vs[a].position) <= weld_tol_ &&
             remap_[b - first_vertex_] == b &&
             (!match_uv ||
@@ -303,6 +329,9 @@ class SurfaceBuilder {
   // Moves the queued elements into the mesh patch by patch, each patch's groups in turn, so
   // that both are contiguous; patches may span surfaces (a faceted mesh's triangles).
   void flush() {
+    std::size_t pending = 0;
+    for (const auto& elems : pending_) pending += elems.size();
+    reserve_more(mesh_.elements, pending);
     for (auto& elems : pending_) {
       if (stopped()) break;
       if (elems.empty()) continue;
@@ -547,7 +576,7 @@ void mesh_triangles(SurfaceBuilder& sb, const TriangleMeshShape& m, const MeshDe
     surfaces = coplanar_sets(m, size);
   }
   for (const std::vector<std::size_t>& triangles : surfaces) {
-    sb.begin_surface();
+    sb.begin_surface(3 * triangles.size());
     std::vector<TriangleGrid> grids;
     for (std::size_t t : triangles) {
       if (sb.stopped()) return;

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "solver/util/random.h"
 #include "tests/test_scenes.h"
 
 namespace bumprad {
@@ -222,6 +223,36 @@ Scene whole(TriangleMeshShape m) {
   MeshDensity d;
   d.counts = {1, 0};
   return one(std::move(m), d);
+}
+
+// A model that repeats each triangle's corners (no shared indices) welds by position, to
+// within a millionth of the element size: a 40 x 40 grid whose copies of a point differ by
+// a tenth of that, in x for the odd triangles (the sweep along x must reach across them)
+// and in y and z alone for the even ones (columns of one exact x, which the sweep leaves
+// once y is past the tolerance), is one smooth surface of 41 x 41 vertices.
+TEST(Mesh, RepeatedCornersWeldWithinTheTolerance) {
+  const int n = 40;
+  TriangleMeshShape m;
+  m.smooth = true;
+  Random random(11);
+  const double jitter = 0.1 * 1e-6 * std::sqrt(2.0) / 16;  // a tenth of the weld tolerance
+  auto at = [&](int i, int j, bool along_x) {
+    auto shift = [&] { return jitter * (2 * random.next() - 1); };
+    return Vec3(double(i) / n + (along_x ? shift() : 0), double(j) / n + shift(), shift());
+  };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      for (const auto& corners : {std::array<std::array<int, 2>, 3>{{{0, 0}, {1, 0}, {1, 1}}},
+                                  std::array<std::array<int, 2>, 3>{{{0, 0}, {1, 1}, {0, 1}}}}) {
+        const bool odd = m.triangles.size() % 2 == 1;
+        const auto first = std::uint32_t(m.positions.size());
+        for (const auto& [di, dj] : corners) m.positions.push_back(at(i + di, j + dj, odd));
+        m.triangles.push_back({first, first + 1, first + 2});
+      }
+  const Mesh mesh = build_mesh(whole(m));
+  EXPECT_EQ(mesh.elements.size(), std::size_t(2 * n * n));
+  EXPECT_EQ(mesh.surface_count, 1u);
+  EXPECT_EQ(used_vertices(mesh), std::size_t((n + 1) * (n + 1)));
 }
 
 // A 2 x 1 rectangle in z = 0 facing up as two triangles over positions 0-3, with (u, v) the
