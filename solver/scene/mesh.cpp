@@ -202,9 +202,8 @@ class SurfaceBuilder {
   }
 
   // Merges coincident vertices added since begin_surface() (sorted by x, then y and z, and
-  // swept along x); with
-  // `match_uv` or `match_shading`, only those whose (u, v) and mirroring or shading normals
-  // agree too.
+  // swept along x); with `match_uv` or `match_shading`, only those whose (u, v) and
+  // mirroring or shading normals agree too.
   void weld(bool match_uv = false, bool match_shading = false) {
     std::uint32_t n = std::uint32_t(mesh_.vertices.size()) - first_vertex_;
     remap_.resize(n);
