@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -36,22 +37,33 @@ class ElementGrid {
   ElementGrid(const Mesh& mesh, double cell) : mesh_(mesh), cell_(cell) {
     for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
       const auto [lo, hi] = box(mesh.elements[i]);
+      const std::uint32_t surface = mesh.elements[i].surface;
       for (long x = lo.x; x <= hi.x; ++x)
         for (long y = lo.y; y <= hi.y; ++y)
-          for (long z = lo.z; z <= hi.z; ++z) cells_[key(x, y, z)].push_back(i);
+          for (long z = lo.z; z <= hi.z; ++z) {
+            Cell& c = cells_[key(x, y, z)];
+            c.only_surface = c.elements.empty() || c.only_surface == surface ? surface : kMixed;
+            c.elements.push_back(i);
+          }
     }
   }
 
-  // The elements whose bounding boxes may come within `radius` of `p`, once each.
-  void near(const Vec3& p, double radius, std::vector<std::uint32_t>& out) const {
+  // The elements of surfaces other than `own` whose bounding boxes may come within `radius`
+  // of `p`, once each. (Inside a fine surface, away from others, a vertex's cells hold its
+  // own surface alone: the 100k room's floor vertices each sorted a hundred of its triangles
+  // only to skip them.)
+  void near(const Vec3& p, double radius, std::uint32_t own,
+            std::vector<std::uint32_t>& out) const {
     out.clear();
     const glm::dvec3 lo = glm::floor((p - radius - mesh_.bounds_min) / cell_),
                      hi = glm::floor((p + radius - mesh_.bounds_min) / cell_);
     for (long x = long(lo.x); x <= long(hi.x); ++x)
       for (long y = long(lo.y); y <= long(hi.y); ++y)
         for (long z = long(lo.z); z <= long(hi.z); ++z)
-          if (auto it = cells_.find(key(x, y, z)); it != cells_.end())
-            out.insert(out.end(), it->second.begin(), it->second.end());
+          if (auto it = cells_.find(key(x, y, z));
+              it != cells_.end() && it->second.only_surface != own)
+            for (std::uint32_t i : it->second.elements)
+              if (mesh_.elements[i].surface != own) out.push_back(i);
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
   }
@@ -71,9 +83,15 @@ class ElementGrid {
            std::uint64_t(z & 0x1fffff);
   }
 
+  static constexpr std::uint32_t kMixed = std::numeric_limits<std::uint32_t>::max();
+  struct Cell {
+    std::vector<std::uint32_t> elements;
+    std::uint32_t only_surface = kMixed;  // the surface of all its elements, or kMixed
+  };
+
   const Mesh& mesh_;
   double cell_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells_;
+  std::unordered_map<std::uint64_t, Cell> cells_;
 };
 
 // Each vertex's elements, laid end to end.
@@ -149,7 +167,7 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
         const Vec3& p = mesh.vertices[v].position;
         const std::uint32_t surface = mesh.elements[around.front()].surface;
         std::vector<std::uint32_t> candidates;
-        grid.near(p, kReach * size, candidates);
+        grid.near(p, kReach * size, surface, candidates);
         // Most vertices (inside a surface, away from others) have no near set: their
         // elements' points are made for the first candidate.
         std::vector<std::vector<Vec3>> points;
@@ -157,8 +175,7 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
         double covered = 0;
         for (std::uint32_t j : candidates) {
           const Element& ej = mesh.elements[j];
-          if (ej.surface == surface || glm::length(ej.centroid - p) - radius[j] > kReach * size ||
-              !seen_from(around, ej))
+          if (glm::length(ej.centroid - p) - radius[j] > kReach * size || !seen_from(around, ej))
             continue;
           // Averaged as vertex_radiosity() averages: each element's whole area, over the open
           // area (a buried point lies behind the faces that bury it and sees none of them).
