@@ -652,13 +652,9 @@ Scene parse_scene(const json& document, const ImageFiles& outside,
   if (!shines)
     model_warnings.push_back(
         "/objects: nothing emits light (no emitting material, no light): the image will be black");
-  // Without a "camera": the first placed model's own, else one framed on the scene, sampled
-  // as the built-in scenes are (2 x 2 rays a pixel, 4 x 4 where they disagree), since one
-  // ray a pixel leaves every edge stepped.
-  if (!root.get("camera")) {
+  // Without a "camera": the first placed model's own, else one framed on the scene.
+  if (!root.get("camera"))
     scene.camera = model_camera ? *model_camera : framed_camera(build_mesh(scene), scene.camera);
-    scene.camera.antialias = 2;
-  }
   if (warnings) warnings->insert(warnings->end(), model_warnings.begin(), model_warnings.end());
   return scene;
 }
