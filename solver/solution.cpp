@@ -26,7 +26,9 @@ Solution prepared(const Scene& scene, std::unique_ptr<Mesh> mesh, std::stop_toke
   out.mesh = std::move(mesh);
   out.map = make_map(scene, *out.mesh);
   out.rays = std::make_unique<RayScene>(*out.mesh);
-  out.open = open_share(*out.mesh, *out.rays, stop);
+  OpenParts open = open_parts(*out.mesh, *out.rays, stop);
+  out.open = std::move(open.share);
+  out.open_centres = std::move(open.centre);
   if (scene.solver.direct_light == DirectLight::Exact && !stop.stop_requested())
     out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open, stop);
   return out;
@@ -54,7 +56,8 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
-  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open, stop);
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open,
+                           out.open_centres, stop);
   solver.shine(punctual_sources(scene.lights, planar_mirror_planes(mesh, scene.materials)),
                *out.rays, stop);
   if (stop.stop_requested()) return out;

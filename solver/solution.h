@@ -31,7 +31,8 @@ struct Solution {
   std::vector<Rgb> direct;
   std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
   std::unique_ptr<RayScene> rays;
-  std::vector<double> open;  // per element, open_share(): how vertices weigh it
+  std::vector<double> open;        // per element, open_share(): how vertices weigh it
+  std::vector<Vec3> open_centres;  // per element, where its open part lies (OpenParts)
   // With DirectLight::Exact: the near sets the view pass puts back exactly (near_field.h).
   std::unique_ptr<NearField> near;
   SolveStats stats;

@@ -32,11 +32,14 @@ class ProgressiveSolver {
   // `rays` (over the same mesh) serves ray-cast form factors and the hemi-cube's aliasing
   // fallback; without it, ray-cast settings are refused and the fallback is off. `open`
   // (per element, vertex_radiosity.h's open_share; empty: all open) keeps light from being
-  // sent ahead to buried parts, which would never receive it. A stop requested while it is
-  // built (or while shine() runs) leaves a solver that must not shoot: its caller returns.
+  // sent ahead to buried parts, which would never receive it; `open_centres` (OpenParts::
+  // centre; empty: centroids) is where a partly buried element's light leaves from. A stop
+  // requested while it is built (or while shine() runs) leaves a solver that must not
+  // shoot: its caller returns.
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                     const SolverSettings& settings, const RayScene* rays = nullptr,
-                    std::span<const double> open = {}, std::stop_token stop = {});
+                    std::span<const double> open = {}, std::span<const Vec3> open_centres = {},
+                    std::stop_token stop = {});
 
   // The punctual lights' light and their images' in planar mirrors (punctual_sources()),
   // before any patch shoots: per element the mean of punctual_irradiance() over its four
@@ -88,7 +91,8 @@ class ProgressiveSolver {
   std::unique_ptr<ShotFormFactors> form_factors_;
   SpecularTransfer specular_;
   Hemicube hemicube_;
-  std::vector<bool> curved_patch_;  // per patch: curved() (geometry.h)
+  std::vector<bool> curved_patch_;      // per patch: curved() (geometry.h)
+  std::span<const Vec3> open_centres_;  // per element, or empty
   int shots_ = 0;
   MersenneTwister rng_;
   PerturbedMap* map_ = nullptr;

@@ -44,16 +44,29 @@ constexpr double kSameFacing = 0.9;
 // Cornell box), and a 64 x 64-element patch took 16,384 near-field points a receiver. Binned
 // in the plane, not taken in the elements' order: a mesh's patch lists its triangles in the
 // file's order, so runs of them are strips, and a run's middle triangle, which had stood for
-// the whole run, could lie under a box the rest of the run is beside.
+// the whole run, could lie under a box the rest of the run is beside. An element only partly
+// open (`open_centres`, per element of the mesh: OpenParts::centre, or empty) stands at the
+// centre of its open part, with all its weight: its light leaves from there.
 std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
-                                      std::span<const double> weight, std::size_t most,
+                                      std::span<const double> weight,
+                                      std::span<const Vec3> open_centres, std::size_t most,
                                       int per_element) {
+  auto open_centre = [&](std::uint32_t e) {
+    return open_centres.empty() ? mesh.elements[patch.first + e].centroid
+                                : open_centres[patch.first + e];
+  };
   std::vector<AreaSample> out;
   if (4 * std::size_t(patch.count) <= most) {
     const int m = std::min(per_element, int(std::sqrt(double(most / patch.count))));
-    for (std::uint32_t e = 0; e < patch.count; ++e)
-      for (const Vec3& point : part_points(mesh, mesh.elements[patch.first + e], m))
-        out.push_back({point, weight[e] / (m * m), mesh.elements[patch.first + e].normal});
+    for (std::uint32_t e = 0; e < patch.count; ++e) {
+      const Element& element = mesh.elements[patch.first + e];
+      if (open_centre(e) != element.centroid) {
+        out.push_back({open_centre(e), weight[e], element.normal});
+        continue;
+      }
+      for (const Vec3& point : part_points(mesh, element, m))
+        out.push_back({point, weight[e] / (m * m), element.normal});
+    }
     return out;
   }
   const Frame frame = frame_about(patch.normal);
@@ -78,7 +91,7 @@ std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
   };
   for (std::uint32_t e = 0; e < patch.count; ++e) {
     const std::size_t c = cell_of(e);
-    sum[c] += weight[e] * mesh.elements[patch.first + e].centroid;
+    sum[c] += weight[e] * open_centre(e);
     total[c] += weight[e];
     normal[c] += std::abs(weight[e]) * mesh.elements[patch.first + e].normal;
   }
@@ -109,8 +122,9 @@ std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
 // aliasing fallback.
 class PatchRays {
  public:
-  PatchRays(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
-      : mesh_(mesh), rays_(rays), open_(open) {}
+  PatchRays(const Mesh& mesh, const RayScene& rays, std::span<const double> open,
+            std::span<const Vec3> open_centres)
+      : mesh_(mesh), rays_(rays), open_(open), open_centres_(open_centres) {}
   // Weighs patch `pi`'s samples for its shot, by the power each element shoots or, if
   // `power` is empty, by its open area (see the definition).
   void weigh(std::uint32_t pi, std::span<const double> power);
@@ -145,6 +159,7 @@ class PatchRays {
   const Mesh& mesh_;
   const RayScene& rays_;
   std::span<const double> open_;
+  std::span<const Vec3> open_centres_;
   // The shooting patch's area per element as it shoots, and its ray samples so weighed.
   std::vector<double> shot_area_;
   std::vector<AreaSample> shot_samples_, lookout_samples_;
@@ -269,15 +284,18 @@ void PatchRays::weigh(std::uint32_t pi, std::span<const double> power) {
   for (std::uint32_t k = 0; k < patch.count; ++k)
     shot_area_[k] =
         total > 0 ? patch.area * shot_area_[k] / total : mesh_.elements[patch.first + k].area;
-  shot_samples_ = spread_points(mesh_, patch, shot_area_, kRaySamples, int(kRaySamples));
-  lookout_samples_ = spread_points(mesh_, patch, shot_area_, kLookoutSamples, int(kLookoutSamples));
+  shot_samples_ =
+      spread_points(mesh_, patch, shot_area_, open_centres_, kRaySamples, int(kRaySamples));
+  lookout_samples_ =
+      spread_points(mesh_, patch, shot_area_, open_centres_, kLookoutSamples, int(kLookoutSamples));
 }
 
 // Ray casting: every element's form factor from rays.
 class RayCastFormFactors : public ShotFormFactors {
  public:
-  RayCastFormFactors(const Mesh& mesh, const RayScene& rays, std::span<const double> open)
-      : mesh_(mesh), rays_(mesh, rays, open) {}
+  RayCastFormFactors(const Mesh& mesh, const RayScene& rays, std::span<const double> open,
+                     std::span<const Vec3> open_centres)
+      : mesh_(mesh), rays_(mesh, rays, open, open_centres) {}
   bool reads_hemicube() const override { return false; }
   void begin(const Shot& shot) override { rays_.weigh(shot.patch, {}); }
   std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
@@ -313,7 +331,8 @@ std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube
 class HemicubeFormFactors : public ShotFormFactors {
  public:
   HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings, const RayScene* rays,
-                      std::span<const double> open, std::stop_token stop);
+                      std::span<const double> open, std::span<const Vec3> open_centres,
+                      std::stop_token stop);
   bool reads_hemicube() const override { return true; }
   void begin(const Shot& shot) override;
   std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
@@ -346,6 +365,7 @@ class HemicubeFormFactors : public ShotFormFactors {
   const double alias_pixels_;
   std::optional<PatchRays> rays_;        // none: no aliasing fallback
   std::span<const double> open_;         // per element: open_share, or empty
+  std::span<const Vec3> open_centres_;   // per element: OpenParts::centre, or empty
   std::vector<AreaSample> near_points_;  // each with the power it stands for as its area
   // The rectangle around them on the shooter's plane, in its frame about the patch centroid.
   Frame near_frame_;
@@ -379,16 +399,17 @@ class HemicubeFormFactors : public ShotFormFactors {
 
 HemicubeFormFactors::HemicubeFormFactors(const Mesh& mesh, const SolverSettings& settings,
                                          const RayScene* rays, std::span<const double> open,
-                                         std::stop_token stop)
+                                         std::span<const Vec3> open_centres, std::stop_token stop)
     : mesh_(mesh),
       scene_rays_(rays),
       resolution_(settings.hemicube_resolution),
       alias_pixels_(settings.alias_pixels),
       open_(open),
+      open_centres_(open_centres),
       grouped_(mesh.elements.size(), false),
       visible_slot_(mesh.elements.size(), -1) {
   if (!rays || !(settings.alias_pixels > 0)) return;
-  rays_.emplace(mesh, *rays, open);
+  rays_.emplace(mesh, *rays, open, open_centres);
   find_lookouts(open);
   blend_lookouts(stop);
 }
@@ -542,7 +563,7 @@ HemicubeFormFactors::Prepared HemicubeFormFactors::prepare(const Shot& shot) con
 // with its share of the element's power, or, past kNearFieldPoints, binned (spread_points).
 void HemicubeFormFactors::near_points(const Shot& shot) {
   const Patch& patch = mesh_.patches[shot.patch];
-  near_points_ = spread_points(mesh_, patch, shot.weight, kNearFieldPoints, 2);
+  near_points_ = spread_points(mesh_, patch, shot.weight, open_centres_, kNearFieldPoints, 2);
   near_frame_ = frame_about(patch.normal);
   near_curved_ = curved(mesh_, patch);
   near_lo_ = glm::dvec2(std::numeric_limits<double>::max());
@@ -808,16 +829,14 @@ double HemicubeFormFactors::beyond_near_points(const Shot& shot, const Vec3& at)
 
 }  // namespace
 
-std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
-                                                        const SolverSettings& settings,
-                                                        const RayScene* rays,
-                                                        std::span<const double> open,
-                                                        std::stop_token stop) {
+std::unique_ptr<ShotFormFactors> make_shot_form_factors(
+    const Mesh& mesh, const SolverSettings& settings, const RayScene* rays,
+    std::span<const double> open, std::span<const Vec3> open_centres, std::stop_token stop) {
   if (settings.form_factors == FormFactorMethod::RayCast) {
     if (!rays) throw std::invalid_argument("ray-cast form factors need the mesh's RayScene");
-    return std::make_unique<RayCastFormFactors>(mesh, *rays, open);
+    return std::make_unique<RayCastFormFactors>(mesh, *rays, open, open_centres);
   }
-  return std::make_unique<HemicubeFormFactors>(mesh, settings, rays, open, stop);
+  return std::make_unique<HemicubeFormFactors>(mesh, settings, rays, open, open_centres, stop);
 }
 
 }  // namespace bumprad

@@ -49,12 +49,14 @@ class ShotFormFactors {
 
 // The settings' method (SolverSettings::form_factors). `rays` (over the same mesh) serves
 // ray casting and the hemi-cube's aliasing fallback: ray casting needs it, the fallback is
-// off without it. `open`: per element, the share of its area open to the scene. A `stop`
-// cuts the set-up short (the caller then does not shoot).
+// off without it. `open`: per element, the share of its area open to the scene, and
+// `open_centres` where that part lies (OpenParts in vertex_radiosity.h; empty: all open, its
+// centroid). A `stop` cuts the set-up short (the caller then does not shoot).
 std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
                                                         const SolverSettings& settings,
                                                         const RayScene* rays,
                                                         std::span<const double> open,
+                                                        std::span<const Vec3> open_centres = {},
                                                         std::stop_token stop = {});
 
 }  // namespace bumprad

@@ -47,6 +47,10 @@ std::size_t quarter_of(const Element& e, double u, double v) {
 }  // namespace
 
 std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop) {
+  return open_parts(mesh, rays, stop).share;
+}
+
+OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token stop) {
   const double epsilon = ray_epsilon(mesh);
   // A point on a non-planar quad may lie a little behind the two triangles Embree makes of
   // it: a ray that meets its own element first passes on from there.
@@ -148,17 +152,21 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop
     for (int k = 0; k < e.vertex_count; ++k) mixed[i] |= verdicts[e.v[std::size_t(k)]] == 3;
     whole[i] = coarse[i] == 4 && !mixed[i];
   }
-  std::vector<double> out(mesh.elements.size(), 1.0);
+  OpenParts out;
+  out.share.assign(mesh.elements.size(), 1.0);
+  out.centre.resize(mesh.elements.size());
   parallel_for(
       int(mesh.elements.size()),
       [&](int index) {
         const std::size_t i = std::size_t(index);
         const Element& e = mesh.elements[i];
+        out.centre[i] = e.centroid;
         if (!mixed[i]) {
-          out[i] = coarse[i] / 4.0;
+          out.share[i] = coarse[i] / 4.0;
           return;
         }
         int inside = 0, open = 0;
+        Vec3 open_sum(0);
         for (int a = 0; a < 8; ++a)
           for (int b = 0; b < 8; ++b) {
             const double u = (a + 0.5) / 8, v = (b + 0.5) / 8;
@@ -168,9 +176,13 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop
             for (int k = 0; k < e.vertex_count; ++k)
               point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
             ++inside;
-            open += judge(std::uint32_t(i), point, true).open;
+            if (judge(std::uint32_t(i), point, true).open) {
+              ++open;
+              open_sum += point;
+            }
           }
-        out[i] = (coarse[i] > 0 ? std::max(1, open) : open) / double(inside);
+        out.share[i] = (coarse[i] > 0 ? std::max(1, open) : open) / double(inside);
+        if (open > 0) out.centre[i] = open_sum / double(open);
       },
       stop);
   return out;

@@ -58,7 +58,8 @@ TEST(OpenShare, ASlabAcrossTheWallsBuriesThePocketBeneathIt) {
        test::quad({Vec3(0, slab, 0), Vec3(0, slab, w), Vec3(w, slab, w), Vec3(w, slab, 0)}, 8, 8)});
   const Mesh mesh = build_mesh(s);
   const RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
+  const OpenParts parts = open_parts(mesh, rays);
+  const std::vector<double>& open = parts.share;
   int pocket = 0, cut = 0;
   for (std::size_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
@@ -72,6 +73,12 @@ TEST(OpenShare, ASlabAcrossTheWallsBuriesThePocketBeneathIt) {
                                                                     : 1;
     EXPECT_NEAR(open[i], expected, 0.07) << "object " << e.object << " at " << e.centroid.x << ", "
                                          << e.centroid.y << ", " << e.centroid.z;
+    // A cut element's open part is the strip above the slab (its centre to a grid cell, 1/16
+    // of the element); elsewhere the element's centroid.
+    if (wall && low < slab && high > slab)
+      EXPECT_NEAR(parts.centre[i].y, (slab + high) / 2, 0.5 / 16);
+    else
+      EXPECT_EQ(parts.centre[i], e.centroid);
     pocket += wall && high <= slab;
     cut += wall && low < slab && high > slab;
   }
