@@ -62,10 +62,10 @@ int main(int argc, char** argv) {
 
     auto t0 = Clock::now();
     Mesh mesh = build_mesh(scene);
-    // As solve() does: rays for the aliasing fallback (or ray-cast mode), open shares.
+    // As solve() does: rays for the aliasing fallback (or ray-cast mode), open parts.
     RayScene rays(mesh);
-    const std::vector<double> open = open_share(mesh, rays);
-    ProgressiveSolver solver(mesh, scene.materials, scene.solver, &rays, open);
+    const OpenParts open = open_parts(mesh, rays);
+    ProgressiveSolver solver(mesh, scene.materials, scene.solver, &rays, &open);
     double setup = seconds_since(t0);
 
     // Diffuse shots and shots that also carry specular transfer (mirrors, glossy) apart.

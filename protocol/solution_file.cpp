@@ -196,8 +196,8 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
   s.stats.elements = s.mesh->elements.size();
   count_map_stats(out.scene, s);
   s.rays = std::make_unique<RayScene>(*s.mesh);
-  s.open = open_share(*s.mesh, *s.rays);
-  if (!s.direct.empty()) s.near = std::make_unique<NearField>(*s.mesh, *s.rays, s.open);
+  s.open = open_parts(*s.mesh, *s.rays);
+  if (!s.direct.empty()) s.near = std::make_unique<NearField>(*s.mesh, *s.rays, s.open.share);
   return out;
 }
 

@@ -26,11 +26,9 @@ Solution prepared(const Scene& scene, std::unique_ptr<Mesh> mesh, std::stop_toke
   out.mesh = std::move(mesh);
   out.map = make_map(scene, *out.mesh);
   out.rays = std::make_unique<RayScene>(*out.mesh);
-  OpenParts open = open_parts(*out.mesh, *out.rays, stop);
-  out.open = std::move(open.share);
-  out.open_centres = std::move(open.centre);
+  out.open = open_parts(*out.mesh, *out.rays, stop);
   if (scene.solver.direct_light == DirectLight::Exact && !stop.stop_requested())
-    out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open, stop);
+    out.near = std::make_unique<NearField>(*out.mesh, *out.rays, out.open.share, stop);
   return out;
 }
 
@@ -56,8 +54,7 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   const bool exact = scene.solver.direct_light == DirectLight::Exact;
   const TextureMode mode = out.map ? scene.solver.texture : TextureMode::None;
 
-  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), out.open,
-                           out.open_centres, stop);
+  ProgressiveSolver solver(mesh, scene.materials, scene.solver, out.rays.get(), &out.open, stop);
   solver.shine(punctual_sources(scene.lights, planar_mirror_planes(mesh, scene.materials)),
                *out.rays, stop);
   if (stop.stop_requested()) return out;
@@ -208,7 +205,7 @@ SolutionView::SolutionView(const Scene& scene, const Solution& solution,
   detail.map = solution.map.get();
   for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
   detail.materials = materials_;
-  detail.open = solution.open;
+  detail.open = solution.open.share;
   if (direct.empty()) {
     view_ = std::make_unique<ViewPass>(*solution.mesh, *solution.rays, scene.camera, radiosity,
                                        detail, keep);
@@ -230,7 +227,7 @@ SolutionView::SolutionView(const Scene& scene, const Solution& solution,
 std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution) {
   SurfaceDetail detail;
   detail.materials = scene.materials;
-  detail.open = solution.open;
+  detail.open = solution.open.share;
   return vertex_values(*solution.mesh, solution.display, detail);
 }
 

@@ -13,6 +13,7 @@
 #include "solver/radiosity/near_field.h"
 #include "solver/radiosity/perturbed_map.h"
 #include "solver/radiosity/solve_stats.h"
+#include "solver/radiosity/vertex_radiosity.h"
 #include "solver/render/lights.h"
 #include "solver/render/view_pass.h"
 #include "solver/scene/mesh.h"
@@ -31,8 +32,7 @@ struct Solution {
   std::vector<Rgb> direct;
   std::unique_ptr<PerturbedMap> map;  // null when no object is bumpy or the mode is none
   std::unique_ptr<RayScene> rays;
-  std::vector<double> open;        // per element, open_share(): how vertices weigh it
-  std::vector<Vec3> open_centres;  // per element, where its open part lies (OpenParts)
+  OpenParts open;  // per element, open_parts(): how vertices weigh it, where light leaves
   // With DirectLight::Exact: the near sets the view pass puts back exactly (near_field.h).
   std::unique_ptr<NearField> near;
   SolveStats stats;

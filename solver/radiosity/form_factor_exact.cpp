@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -47,25 +48,41 @@ double angle(double y, double x) {
   return y > 0 ? std::numbers::pi / 2 : 0;
 }
 
-double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
+std::span<const Vec3> clip_to_front(const Vec3& point, const Vec3& normal,
+                                    std::span<const Vec3> polygon, std::span<Vec3> out) {
   // Sutherland-Hodgman against the plane normal . (x - point) >= 0; at most two vertices
-  // per edge come out. Small polygons clip on the stack: the view pass calls this per pixel.
-  std::array<Vec3, 16> stack;
-  std::vector<Vec3> heap;
-  std::span<Vec3> out(stack);
-  const std::size_t n = polygon.size();
-  if (2 * n > stack.size()) {
-    heap.resize(2 * n);
-    out = heap;
-  }
+  // per edge come out.
   std::size_t count = 0;
+  const std::size_t n = polygon.size();
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 a = polygon[i] - point, b = polygon[(i + 1) % n] - point;
     double da = glm::dot(normal, a), db = glm::dot(normal, b);
     if (da >= 0) out[count++] = a;
     if ((da >= 0) != (db >= 0)) out[count++] = a + (b - a) * (da / (da - db));
   }
-  std::span<const Vec3> clipped = out.first(count);
+  return out.first(count);
+}
+
+double area_in_front(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
+  std::array<Vec3, 8> out;
+  if (polygon.size() > 4) throw std::invalid_argument("area_in_front: more than 4 corners");
+  const std::span<const Vec3> clipped = clip_to_front(point, normal, polygon, out);
+  Vec3 twice(0);  // the vector area, twice
+  for (std::size_t i = 0; i < clipped.size(); ++i)
+    twice += glm::cross(clipped[i], clipped[(i + 1) % clipped.size()]);
+  return 0.5 * glm::length(twice);
+}
+
+double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {
+  // Small polygons clip on the stack: the view pass calls this per pixel.
+  std::array<Vec3, 16> stack;
+  std::vector<Vec3> heap;
+  std::span<Vec3> out(stack);
+  if (2 * polygon.size() > stack.size()) {
+    heap.resize(2 * polygon.size());
+    out = heap;
+  }
+  const std::span<const Vec3> clipped = clip_to_front(point, normal, polygon, out);
   double sum = 0;
   for (std::size_t i = 0; i < clipped.size(); ++i) {
     const Vec3& a = clipped[i];

@@ -14,16 +14,15 @@ namespace bumprad {
 
 ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                                      const SolverSettings& settings, const RayScene* rays,
-                                     std::span<const double> open,
-                                     std::span<const Vec3> open_centres, std::stop_token stop)
+                                     const OpenParts* open, std::stop_token stop)
     : mesh_(mesh),
       settings_(settings),
-      residuals_(mesh, materials, open),
-      form_factors_(
-          make_shot_form_factors(mesh, settings, rays, residuals_.open(), open_centres, stop)),
+      residuals_(mesh, materials,
+                 open ? std::span<const double>(open->share) : std::span<const double>()),
+      form_factors_(make_shot_form_factors(mesh, settings, rays, open, stop)),
       specular_(mesh, materials),
       hemicube_(mesh, settings.hemicube_resolution),
-      open_centres_(open_centres),
+      open_(open),
       rng_(settings.seed) {
   for (const Patch& patch : mesh.patches) curved_patch_.push_back(curved(mesh, patch));
 }
@@ -156,8 +155,8 @@ Vec3 ProgressiveSolver::shot_origin(const Shooting& shot) const {
   Vec3 centre(0);
   for (std::uint32_t k = 0; k < patch.count; ++k) {
     total += weight[k];
-    centre += weight[k] * (open_centres_.empty() ? mesh_.elements[patch.first + k].centroid
-                                                 : open_centres_[patch.first + k]);
+    centre += weight[k] *
+              (open_ ? open_->centre[patch.first + k] : mesh_.elements[patch.first + k].centroid);
   }
   if (!(total > 0)) return patch.centroid;
   centre /= total;

@@ -17,6 +17,7 @@
 #include "solver/radiosity/shot_form_factors.h"
 #include "solver/radiosity/solve_stats.h"
 #include "solver/radiosity/specular_transfer.h"
+#include "solver/radiosity/vertex_radiosity.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/punctual_light.h"
 #include "solver/scene/ray_scene.h"
@@ -31,15 +32,13 @@ class ProgressiveSolver {
  public:
   // `rays` (over the same mesh) serves ray-cast form factors and the hemi-cube's aliasing
   // fallback; without it, ray-cast settings are refused and the fallback is off. `open`
-  // (per element, vertex_radiosity.h's open_share; empty: all open) keeps light from being
-  // sent ahead to buried parts, which would never receive it; `open_centres` (OpenParts::
-  // centre; empty: centroids) is where a partly buried element's light leaves from. A stop
-  // requested while it is built (or while shine() runs) leaves a solver that must not
-  // shoot: its caller returns.
+  // (vertex_radiosity.h's open_parts; null: all open) keeps light from being sent ahead to
+  // buried parts, which would never receive it, and says where a partly buried element's
+  // light leaves from. A stop requested while it is built (or while shine() runs) leaves a
+  // solver that must not shoot: its caller returns.
   ProgressiveSolver(const Mesh& mesh, const std::vector<Material>& materials,
                     const SolverSettings& settings, const RayScene* rays = nullptr,
-                    std::span<const double> open = {}, std::span<const Vec3> open_centres = {},
-                    std::stop_token stop = {});
+                    const OpenParts* open = nullptr, std::stop_token stop = {});
 
   // The punctual lights' light and their images' in planar mirrors (punctual_sources()),
   // before any patch shoots: per element the mean of punctual_irradiance() over its four
@@ -91,8 +90,8 @@ class ProgressiveSolver {
   std::unique_ptr<ShotFormFactors> form_factors_;
   SpecularTransfer specular_;
   Hemicube hemicube_;
-  std::vector<bool> curved_patch_;      // per patch: curved() (geometry.h)
-  std::span<const Vec3> open_centres_;  // per element, or empty
+  std::vector<bool> curved_patch_;  // per patch: curved() (geometry.h)
+  const OpenParts* open_;           // or null: all open
   int shots_ = 0;
   MersenneTwister rng_;
   PerturbedMap* map_ = nullptr;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "solver/radiosity/hemicube.h"
+#include "solver/radiosity/vertex_radiosity.h"
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
 #include "solver/scene/scene.h"
@@ -49,14 +50,12 @@ class ShotFormFactors {
 
 // The settings' method (SolverSettings::form_factors). `rays` (over the same mesh) serves
 // ray casting and the hemi-cube's aliasing fallback: ray casting needs it, the fallback is
-// off without it. `open`: per element, the share of its area open to the scene, and
-// `open_centres` where that part lies (OpenParts in vertex_radiosity.h; empty: all open, its
-// centroid). A `stop` cuts the set-up short (the caller then does not shoot).
+// off without it. `open`: per element, the share of its area open to the scene and where
+// that part lies (vertex_radiosity.h's open_parts; null: all open). A `stop` cuts the set-up
+// short (the caller then does not shoot).
 std::unique_ptr<ShotFormFactors> make_shot_form_factors(const Mesh& mesh,
                                                         const SolverSettings& settings,
-                                                        const RayScene* rays,
-                                                        std::span<const double> open,
-                                                        std::span<const Vec3> open_centres = {},
+                                                        const RayScene* rays, const OpenParts* open,
                                                         std::stop_token stop = {});
 
 }  // namespace bumprad

@@ -44,6 +44,15 @@ std::size_t quarter_of(const Element& e, double u, double v) {
   return u + v >= 0.5 ? 3 : 0;
 }
 
+// The point of an element's 8 x 8 grid at ((a + 0.5) / 8, (b + 0.5) / 8).
+Vec3 grid_point(const Mesh& mesh, const Element& e, int a, int b) {
+  const std::array<double, 4> w = corner_weights(e, (a + 0.5) / 8, (b + 0.5) / 8);
+  Vec3 point(0);
+  for (int k = 0; k < e.vertex_count; ++k)
+    point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+  return point;
+}
+
 }  // namespace
 
 std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop) {
@@ -155,6 +164,7 @@ OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token sto
   OpenParts out;
   out.share.assign(mesh.elements.size(), 1.0);
   out.centre.resize(mesh.elements.size());
+  out.cells.assign(mesh.elements.size(), OpenParts::kWhole);
   parallel_for(
       int(mesh.elements.size()),
       [&](int index) {
@@ -167,24 +177,33 @@ OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token sto
         }
         int inside = 0, open = 0;
         Vec3 open_sum(0);
+        std::uint64_t cells = 0;
         for (int a = 0; a < 8; ++a)
           for (int b = 0; b < 8; ++b) {
-            const double u = (a + 0.5) / 8, v = (b + 0.5) / 8;
-            if (e.vertex_count == 3 && u + v > 1) continue;
-            std::array<double, 4> w = corner_weights(e, u, v);
-            Vec3 point(0);
-            for (int k = 0; k < e.vertex_count; ++k)
-              point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+            if (e.vertex_count == 3 && a + b > 7) continue;  // (u + v > 1)
+            const Vec3 point = grid_point(mesh, e, a, b);
             ++inside;
             if (judge(std::uint32_t(i), point, true).open) {
               ++open;
               open_sum += point;
+              cells |= std::uint64_t(1) << (8 * a + b);
             }
           }
         out.share[i] = (coarse[i] > 0 ? std::max(1, open) : open) / double(inside);
-        if (open > 0) out.centre[i] = open_sum / double(open);
+        if (open > 0 && open < inside) {
+          out.centre[i] = open_sum / double(open);
+          out.cells[i] = cells;
+        }
       },
       stop);
+  return out;
+}
+
+std::vector<Vec3> open_points(const Mesh& mesh, const Element& e, std::uint64_t cells) {
+  std::vector<Vec3> out;
+  for (int a = 0; a < 8; ++a)
+    for (int b = 0; b < 8; ++b)
+      if (cells >> (8 * a + b) & 1) out.push_back(grid_point(mesh, e, a, b));
   return out;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <stop_token>
 #include <vector>
@@ -38,8 +39,18 @@ std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop
 struct OpenParts {
   std::vector<double> share;
   std::vector<Vec3> centre;
+  // Per element measured on the grid and partly open, its open points (bit 8a + b for the
+  // point at ((a + 0.5) / 8, (b + 0.5) / 8)); kWhole for every other element.
+  std::vector<std::uint64_t> cells;
+  static constexpr std::uint64_t kWhole = ~std::uint64_t(0);
+  bool partly_open(std::uint32_t element) const {
+    return cells[element] != kWhole && share[element] > 0;
+  }
 };
 OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token stop = {});
+
+// The open grid points of an element's `cells` (as OpenParts::cells).
+std::vector<Vec3> open_points(const Mesh& mesh, const Element& element, std::uint64_t cells);
 
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
 

@@ -145,5 +145,15 @@ TEST(FormFactorExact, AnElementFarFromAPointIsASmallPatch) {
   EXPECT_LT(worst_far, 1.5);  // ... within 1.5 (radius / r)^2 of Lambert's
 }
 
+// The part of a unit square in front of a plane: none, a half along a diagonal, a third
+// across it, all of it.
+TEST(FormFactorExact, TheAreaInFrontOfAPlaneIsTheClippedPolygons) {
+  const std::array<Vec3, 4> square = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  EXPECT_NEAR(area_in_front(Vec3(0, 0, 2), Vec3(0, 0, 1), square), 0, 1e-12);
+  EXPECT_NEAR(area_in_front(Vec3(0, 0, 0), glm::normalize(Vec3(1, -1, 0)), square), 0.5, 1e-12);
+  EXPECT_NEAR(area_in_front(Vec3(0, 2.0 / 3, 0), Vec3(0, 1, 0), square), 1.0 / 3, 1e-12);
+  EXPECT_NEAR(area_in_front(Vec3(0, 0, -1), Vec3(0, 0.6, 0.8), square), 1, 1e-12);
+}
+
 }  // namespace
 }  // namespace bumprad

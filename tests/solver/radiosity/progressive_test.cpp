@@ -90,7 +90,8 @@ TEST(Progressive, FurnaceOverHillsConvergesToo) {
   s.solver.max_shots = 5000;
   const Mesh mesh = build_mesh(s);
   const RayScene rays(mesh);
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open_share(mesh, rays));
+  const OpenParts open = open_parts(mesh, rays);
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, &open);
   solver.run();
   ASSERT_LE(solver.unshot_fraction(), 1e-3);
   double mean = 0, worst = 0, light = 0, area = 0;
@@ -324,7 +325,8 @@ FirstShot shoot_once(Scene s, double rho) {
   s.materials.push_back(glow);
   FirstShot out{build_mesh(s), {}};
   const RayScene rays(out.mesh);
-  ProgressiveSolver solver(out.mesh, s.materials, s.solver, &rays, open_share(out.mesh, rays));
+  const OpenParts open = open_parts(out.mesh, rays);
+  ProgressiveSolver solver(out.mesh, s.materials, s.solver, &rays, &open);
   EXPECT_TRUE(solver.shoot());
   out.radiosity = solver.radiosity();
   return out;
@@ -569,8 +571,8 @@ TEST(Progressive, RaysFromAPatchLitAtOneEndLeaveFromThatEnd) {
   const Mesh mesh = build_mesh(s);
   ASSERT_EQ(mesh.patches[mesh.elements[0].patch].count, 200u) << "the floor is one patch";
   const RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, open);
+  const OpenParts open = open_parts(mesh, rays);
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, &open);
   solver.shine(punctual_sources(s.lights, {}), rays);
   const std::vector<Rgb> before = solver.radiosity(), shoots = solver.display_radiosity();
   ASSERT_TRUE(solver.shoot());
@@ -579,7 +581,7 @@ TEST(Progressive, RaysFromAPatchLitAtOneEndLeaveFromThatEnd) {
   double got = 0, exact = 0, under = 0;
   for (std::uint32_t j = 0; j < mesh.elements.size(); ++j) {
     const Element& r = mesh.elements[j];
-    if (r.object == 0 && r.centroid.x > 1.1) under += open[j] / 90;
+    if (r.object == 0 && r.centroid.x > 1.1) under += open.share[j] / 90;
     if (r.object != 2) continue;
     got += (after[j].g - before[j].g) * r.area;
     std::array<Vec3, 4> corners;

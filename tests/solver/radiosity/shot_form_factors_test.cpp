@@ -56,8 +56,8 @@ TEST(ShotFormFactors, ACurvedPatchLightsTheSlopesAroundItAsItsTrianglesDo) {
   Scene s = test::scene_of({ground});
   const Mesh mesh = build_mesh(s);
   const RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
-  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, open);
+  const OpenParts open = open_parts(mesh, rays);
+  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, &open);
   Hemicube hemicube(mesh, s.solver.hemicube_resolution);
   int curved = 0;
   double worst = 0, all_found = 0, all_exact = 0;
@@ -102,12 +102,13 @@ TEST(ShotFormFactors, ACurvedPatchLightsTheSlopesAroundItAsItsTrianglesDo) {
 
 // A one-sided slab of fine triangles across a closed room, cutting the walls' second row of
 // elements near its top: those elements hold their light on the strip above the slab, and it
-// leaves from there (OpenParts::centre). From their centroids, under the slab, the hemi-cube
-// looked through the slab's culled back into the pocket, where nothing shoots again. Above
-// the slab the room is closed, so each cut patch should send it all its light (1); measured,
-// the least any sends is 0.547, 0.406 from centroids. What is still missing: the slab's
-// triangles beside a cut element take Lambert's value of the whole element divided by its
-// whole area (reciprocity), about a quarter of what its open strip sends them.
+// leaves from there (OpenParts; PatchRays::shooting_area). Above the slab the room is
+// closed, so each cut patch should send it all its light. Measured: 0.78 - 0.87 (the open
+// share is measured on an 8 x 8 grid: 0.25 of the element where 0.2 is open, and Lambert's
+// value from the slab sees the 0.2); 0.41 - 0.50 before, from the elements' centroids under
+// the slab, where the hemi-cube looked through the slab's culled back into the pocket, and
+// with the slab's triangles beside a cut element taking its light as if it left its whole
+// area.
 TEST(ShotFormFactors, APartlyBuriedPatchShootsFromItsOpenPart) {
   const double w = 4, h = 4, slab = 1.4;  // the walls' second row of elements spans 1 to 1.5
   const int n = 40;
@@ -134,46 +135,39 @@ TEST(ShotFormFactors, APartlyBuriedPatchShootsFromItsOpenPart) {
   const OpenParts open = open_parts(mesh, rays);
   // Shots as the solver makes them for a flat patch (ProgressiveSolver::shot_origin): from
   // the power's centre, each element's power at its open part's centre; power from open area.
-  auto delivered = [&](bool open_centres) {
-    auto form_factors = make_shot_form_factors(
-        mesh, s.solver, &rays, open.share,
-        open_centres ? std::span<const Vec3>(open.centre) : std::span<const Vec3>());
-    Hemicube hemicube(mesh, s.solver.hemicube_resolution);
-    double lowest = INFINITY;
-    int cut = 0;
-    for (std::uint32_t pi = 0; pi < mesh.patches.size(); ++pi) {
-      const Patch& patch = mesh.patches[pi];
-      if (mesh.elements[patch.first].object == 0) continue;
-      std::vector<double> weight(patch.count);
-      Vec3 centre(0);
-      double total = 0;
-      bool partly = false;
-      for (std::uint32_t k = 0; k < patch.count; ++k) {
-        const std::uint32_t i = patch.first + k;
-        partly = partly || (open.share[i] > 0 && open.share[i] < 1);
-        weight[k] = mesh.elements[i].area * open.share[i];
-        centre += weight[k] * (open_centres ? open.centre[i] : mesh.elements[i].centroid);
-        total += weight[k];
-      }
-      if (!partly) continue;
-      ++cut;
-      const Shot shot{pi, centre / total + patch.normal * hemicube_lift(mesh), weight};
-      form_factors->begin(shot);
-      hemicube.render(shot.origin, frame_about(patch.normal), pi);
-      double open_receivers = 0;  // F into the pocket is lost: nothing there shoots
-      for (const VisibleElement& v : form_factors->find(shot, hemicube, false))
-        open_receivers += open.share[v.element] >= 0.5 ? v.form_factor : 0;
-      lowest = std::min(lowest, open_receivers);
+  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, &open);
+  Hemicube hemicube(mesh, s.solver.hemicube_resolution);
+  double lowest = INFINITY, highest = 0;
+  int cut = 0;
+  for (std::uint32_t pi = 0; pi < mesh.patches.size(); ++pi) {
+    const Patch& patch = mesh.patches[pi];
+    if (mesh.elements[patch.first].object == 0) continue;
+    std::vector<double> weight(patch.count);
+    Vec3 centre(0);
+    double total = 0;
+    bool partly = false;
+    for (std::uint32_t k = 0; k < patch.count; ++k) {
+      const std::uint32_t i = patch.first + k;
+      partly = partly || (open.share[i] > 0 && open.share[i] < 1);
+      weight[k] = mesh.elements[i].area * open.share[i];
+      centre += weight[k] * open.centre[i];
+      total += weight[k];
     }
-    EXPECT_EQ(cut, 4 * 8) << "the walls' second row";
-    return lowest;
-  };
-  const double from_centroids = delivered(false), from_open_parts = delivered(true);
-  std::printf("the least a cut patch sends the room above the slab: %.3f (from centroids %.3f)\n",
-              from_open_parts, from_centroids);
-  EXPECT_GT(from_open_parts, 0.5);
-  EXPECT_LE(from_open_parts, 1.0);
-  EXPECT_GT(from_open_parts, from_centroids + 0.1);
+    if (!partly) continue;
+    ++cut;
+    const Shot shot{pi, centre / total + patch.normal * hemicube_lift(mesh), weight};
+    form_factors->begin(shot);
+    hemicube.render(shot.origin, frame_about(patch.normal), pi);
+    double open_receivers = 0;  // F into the pocket is lost: nothing there shoots
+    for (const VisibleElement& v : form_factors->find(shot, hemicube, false))
+      open_receivers += open.share[v.element] >= 0.5 ? v.form_factor : 0;
+    lowest = std::min(lowest, open_receivers), highest = std::max(highest, open_receivers);
+  }
+  EXPECT_EQ(cut, 4 * 8) << "the walls' second row";
+  std::printf("a cut patch sends the room above the slab %.3f - %.3f of its light\n", lowest,
+              highest);
+  EXPECT_GT(lowest, 0.75);
+  EXPECT_LT(highest, 1.01);
 }
 
 // Groups of fine triangles far from a shooter take their unoccluded form factors from a
@@ -198,8 +192,8 @@ TEST(ShotFormFactors, FarGroupsTakeTheirTrianglesFormFactorsFromAField) {
   ASSERT_GT(mesh.elements[0].normal.z, 0.99) << "the shooter faces up";
   ASSERT_EQ(mesh.patches[0].count, 100u) << "the shooter is one patch";
   const RayScene rays(mesh);
-  const std::vector<double> open = open_share(mesh, rays);
-  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, open);
+  const OpenParts open = open_parts(mesh, rays);
+  auto form_factors = make_shot_form_factors(mesh, s.solver, &rays, &open);
   Hemicube hemicube(mesh, s.solver.hemicube_resolution);
   const Patch& patch = mesh.patches[0];
   std::vector<double> weight(patch.count);

@@ -150,7 +150,7 @@ TEST(PunctualLight, AStoppedShineSendsNoLight) {
   const RayScene rays(mesh);
   std::stop_source stopped;
   stopped.request_stop();
-  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, {}, {}, stopped.get_token());
+  ProgressiveSolver solver(mesh, s.materials, s.solver, &rays, nullptr, stopped.get_token());
   solver.shine(punctual_sources(s.lights, {}), rays, stopped.get_token());
   EXPECT_EQ(solver.ledger().emitted.g, 0);
   for (const Rgb& d : solver.direct()) EXPECT_EQ(d.g, 0);
