@@ -50,10 +50,13 @@ constexpr double kShotsPerPatch = 0.13;
 // Per element, once: the set-up before the first shot (mesh, weld, groups, rays, open
 // shares, near sets), and the view pass's part that grows with the mesh (vertex values, the
 // near field's shading, rays into a larger scene) at the same pixel count. The room family
-// of bumprad-bench-scale took 2.6e-5 s and 2.2e-5 s an element from 10k to 1M triangles at
-// 256 x 256 (README); two quads of a million elements in all took 8.5 s to set up.
-constexpr double kSetupPerElement_s = 3e-5;
-constexpr double kViewPerElement_s = 2.5e-5;
+// of bumprad-bench-scale (2026-12-07): set-up 1.3-1.5e-5 s an element at 10k triangles,
+// 0.8-1.5e-5 at 100k, 7.3e-6 at 1M; its view pass at 256 x 256 0.4, 0.8-1.0 and 4.8 s, 4.4e-6 s
+// an element beyond the pixels' part; two quads of a million elements in all took 8.5 s to
+// set up. (3e-5 and 2.5e-5, fitted before the set-up's and the near field's costs fell, put
+// the 1M room at 0.30 of its estimate.)
+constexpr double kSetupPerElement_s = 1.5e-5;
+constexpr double kViewPerElement_s = 5e-6;
 // The view pass: 512^2 pixels at 2x2 antialiasing take 0.11 s (1e-7 s a camera ray); a
 // glossy surface sends glossy_samples more rays, a mirror up to max_depth more.
 constexpr double kPerRay_s = 1e-7;
