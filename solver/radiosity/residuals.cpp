@@ -45,9 +45,13 @@ Residuals::Residuals(const Mesh& mesh, const std::vector<Material>& materials,
     const Element& e = mesh.elements[i];
     const Material& m = materials[std::size_t(e.material)];
     specular_[i] = m.specular;
-    radiosity_[i] = unshot_[i] = unshot_emission_[i] = m.emission;
-    emitted_ += m.emission * e.area;
-    patch_unshot_power_[e.patch] += channel_sum(m.emission) * e.area;
+    // An element emits E over its open part only: a buried part's light is trapped (a
+    // hemi-cube in a pocket would send it through the culled back of what buries it). Its
+    // radiosity stays E, which is what its open part shows.
+    radiosity_[i] = m.emission;
+    unshot_[i] = unshot_emission_[i] = m.emission * open_[i];
+    emitted_ += m.emission * (e.area * open_[i]);
+    patch_unshot_power_[e.patch] += channel_sum(m.emission) * e.area * open_[i];
     weighted_rho += m.reflectance * e.area * open_[i];
     total_area_ += e.area * open_[i];
   }
