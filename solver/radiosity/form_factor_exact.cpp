@@ -40,18 +40,10 @@ double atan_nonnegative(double x) {
   return base + (x * z * p / q + x + extra);
 }
 
-}  // namespace
-
-double angle(double y, double x) {
-  if (x > 0) return atan_nonnegative(y / x);
-  if (x < 0) return std::numbers::pi - atan_nonnegative(y / -x);
-  return y > 0 ? std::numbers::pi / 2 : 0;
-}
-
-std::span<const Vec3> clip_to_front(const Vec3& point, const Vec3& normal,
-                                    std::span<const Vec3> polygon, std::span<Vec3> out) {
-  // Sutherland-Hodgman against the plane normal . (x - point) >= 0; at most two vertices
-  // per edge come out.
+// The polygon clipped to the half-space normal . (x - point) >= 0 (Sutherland-Hodgman), its
+// corners relative to `point`, in `out`, which holds twice the polygon's corners.
+inline std::span<const Vec3> clip_to_front(const Vec3& point, const Vec3& normal,
+                                           std::span<const Vec3> polygon, std::span<Vec3> out) {
   std::size_t count = 0;
   const std::size_t n = polygon.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -61,6 +53,14 @@ std::span<const Vec3> clip_to_front(const Vec3& point, const Vec3& normal,
     if ((da >= 0) != (db >= 0)) out[count++] = a + (b - a) * (da / (da - db));
   }
   return out.first(count);
+}
+
+}  // namespace
+
+double angle(double y, double x) {
+  if (x > 0) return atan_nonnegative(y / x);
+  if (x < 0) return std::numbers::pi - atan_nonnegative(y / -x);
+  return y > 0 ? std::numbers::pi / 2 : 0;
 }
 
 double area_in_front(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon) {

@@ -14,11 +14,7 @@ namespace bumprad {
 // normal is allowed, so this is also the exact perturbed form factor at any tilt.
 double point_to_polygon(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon);
 
-// The polygon clipped to the half-space the normal faces, its corners relative to `point`
-// (Sutherland-Hodgman), in `out`, which holds twice the polygon's corners.
-std::span<const Vec3> clip_to_front(const Vec3& point, const Vec3& normal,
-                                    std::span<const Vec3> polygon, std::span<Vec3> out);
-// The area of the part of a polygon of at most 4 corners in that half-space.
+// The area of the part of a polygon of at most 4 corners in the half-space the normal faces.
 double area_in_front(const Vec3& point, const Vec3& normal, std::span<const Vec3> polygon);
 
 // Differential area at `point` with unit `normal` to element `e` of `mesh`, one-sided (zero
