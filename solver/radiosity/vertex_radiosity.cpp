@@ -46,11 +46,7 @@ std::size_t quarter_of(const Element& e, double u, double v) {
 
 // The point of an element's 8 x 8 grid at ((a + 0.5) / 8, (b + 0.5) / 8).
 Vec3 grid_point(const Mesh& mesh, const Element& e, int a, int b) {
-  const std::array<double, 4> w = corner_weights(e, (a + 0.5) / 8, (b + 0.5) / 8);
-  Vec3 point(0);
-  for (int k = 0; k < e.vertex_count; ++k)
-    point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
-  return point;
+  return point_at(mesh, e, (a + 0.5) / 8, (b + 0.5) / 8);
 }
 
 }  // namespace

@@ -55,6 +55,14 @@ std::array<double, 4> corner_weights(const Element& e, double u, double v) {
   return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};
 }
 
+Vec3 point_at(const Mesh& mesh, const Element& e, double u, double v) {
+  const std::array<double, 4> w = corner_weights(e, u, v);
+  Vec3 point(0);
+  for (int k = 0; k < e.vertex_count; ++k)
+    point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
+  return point;
+}
+
 std::vector<Vec3> part_points(const Mesh& mesh, const Element& e, int m) {
   std::vector<glm::dvec2> uv;
   if (e.vertex_count == 4) {
@@ -67,13 +75,7 @@ std::vector<Vec3> part_points(const Mesh& mesh, const Element& e, int m) {
       for (int i = 0; i + j + 1 < m; ++i) uv.push_back({(i + 2.0 / 3) / m, (j + 2.0 / 3) / m});
   }
   std::vector<Vec3> out;
-  for (const glm::dvec2& p : uv) {
-    const std::array<double, 4> w = corner_weights(e, p.x, p.y);
-    Vec3 point(0);
-    for (int k = 0; k < e.vertex_count; ++k)
-      point += w[std::size_t(k)] * mesh.vertices[e.v[std::size_t(k)]].position;
-    out.push_back(point);
-  }
+  for (const glm::dvec2& p : uv) out.push_back(point_at(mesh, e, p.x, p.y));
   return out;
 }
 

@@ -31,6 +31,8 @@ ElementRun element_run(std::span<const Element> elements, std::uint32_t first, s
 // The weights of an element's corners at (u, v) as Embree reports a hit: quads
 // p0 + u (p1 - p0) + v (p3 - p0) bilinearly, triangles (1 - u - v) p0 + u p1 + v p2.
 std::array<double, 4> corner_weights(const Element& element, double u, double v);
+// The element's point at (u, v), so weighed.
+Vec3 point_at(const Mesh& mesh, const Element& element, double u, double v);
 
 // m^2 points spread over an element, each standing for an equal part of its area: the
 // centres of its m x m bilinear sub-quads, or of a triangle's m^2 sub-triangles on the
