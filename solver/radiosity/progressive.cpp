@@ -155,8 +155,7 @@ Vec3 ProgressiveSolver::shot_origin(const Shooting& shot) const {
   Vec3 centre(0);
   for (std::uint32_t k = 0; k < patch.count; ++k) {
     total += weight[k];
-    centre += weight[k] *
-              (open_ ? open_->centre[patch.first + k] : mesh_.elements[patch.first + k].centroid);
+    centre += weight[k] * open_centre(mesh_, open_, patch.first + k);
   }
   if (!(total > 0)) return patch.centroid;
   centre /= total;

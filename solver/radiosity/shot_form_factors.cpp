@@ -50,9 +50,6 @@ constexpr double kSameFacing = 0.9;
 std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
                                       std::span<const double> weight, const OpenParts* open,
                                       std::size_t most, int per_element) {
-  auto open_centre = [&](std::uint32_t e) {
-    return open ? open->centre[patch.first + e] : mesh.elements[patch.first + e].centroid;
-  };
   std::vector<AreaSample> out;
   if (4 * std::size_t(patch.count) <= most) {
     const int m = std::min(per_element, int(std::sqrt(double(most / patch.count))));
@@ -93,7 +90,7 @@ std::vector<AreaSample> spread_points(const Mesh& mesh, const Patch& patch,
   };
   for (std::uint32_t e = 0; e < patch.count; ++e) {
     const std::size_t c = cell_of(e);
-    sum[c] += weight[e] * open_centre(e);
+    sum[c] += weight[e] * open_centre(mesh, open, patch.first + e);
     total[c] += weight[e];
     normal[c] += std::abs(weight[e]) * mesh.elements[patch.first + e].normal;
   }

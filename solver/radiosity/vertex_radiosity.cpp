@@ -159,20 +159,17 @@ OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token sto
   }
   OpenParts out;
   out.share.assign(mesh.elements.size(), 1.0);
-  out.centre.resize(mesh.elements.size());
   out.cells.assign(mesh.elements.size(), OpenParts::kWhole);
   parallel_for(
       int(mesh.elements.size()),
       [&](int index) {
         const std::size_t i = std::size_t(index);
         const Element& e = mesh.elements[i];
-        out.centre[i] = e.centroid;
         if (!mixed[i]) {
           out.share[i] = coarse[i] / 4.0;
           return;
         }
         int inside = 0, open = 0;
-        Vec3 open_sum(0);
         std::uint64_t cells = 0;
         for (int a = 0; a < 8; ++a)
           for (int b = 0; b < 8; ++b) {
@@ -181,15 +178,11 @@ OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token sto
             ++inside;
             if (judge(std::uint32_t(i), point, true).open) {
               ++open;
-              open_sum += point;
               cells |= std::uint64_t(1) << (8 * a + b);
             }
           }
         out.share[i] = (coarse[i] > 0 ? std::max(1, open) : open) / double(inside);
-        if (open > 0 && open < inside) {
-          out.centre[i] = open_sum / double(open);
-          out.cells[i] = cells;
-        }
+        if (open > 0 && open < inside) out.cells[i] = cells;
       },
       stop);
   return out;
@@ -201,6 +194,15 @@ std::vector<Vec3> open_points(const Mesh& mesh, const Element& e, std::uint64_t 
     for (int b = 0; b < 8; ++b)
       if (cells >> (8 * a + b) & 1) out.push_back(grid_point(mesh, e, a, b));
   return out;
+}
+
+Vec3 open_centre(const Mesh& mesh, const OpenParts* open, std::uint32_t element) {
+  const Element& e = mesh.elements[element];
+  if (!open || !open->partly_open(element)) return e.centroid;
+  Vec3 sum(0);
+  const std::vector<Vec3> points = open_points(mesh, e, open->cells[element]);
+  for (const Vec3& p : points) sum += p;
+  return sum / double(points.size());
 }
 
 Rgb interpolate(const Element& e, std::span<const Rgb> values, double u, double v) {

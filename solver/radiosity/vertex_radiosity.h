@@ -30,15 +30,13 @@ std::vector<Rgb> vertex_radiosity(const Mesh& mesh, std::span<const Rgb> element
 // where the verdict changes. `stop` ends it early, its shares then partial.
 std::vector<double> open_share(const Mesh& mesh, const RayScene& rays, std::stop_token stop = {});
 
-// The same shares, and where each element's open part lies: the mean of its open points
-// where an element was measured on the 8 x 8 grid and some are open, its centroid elsewhere.
-// An element's light leaves from its open part: shot from its centroid, a wall element cut
-// by a terrain sent its light from under it, where the hemi-cube looks through the
-// terrain's culled back into the pocket, which never shoots again (bumprad-bench-scale's
-// terrain came out 2.8 % dark).
+// The same shares, and where each element's open part lies: its open points where it was
+// measured on the 8 x 8 grid and only some are open. An element's light leaves from its open part:
+// shot from its centroid, a wall element cut by a terrain sent its light from under it, where the
+// hemi-cube looks through the terrain's culled back into the pocket, which never shoots again
+// (bumprad-bench-scale's terrain came out 2.8 % dark).
 struct OpenParts {
   std::vector<double> share;
-  std::vector<Vec3> centre;
   // Per element measured on the grid and partly open, its open points (bit 8a + b for the
   // point at ((a + 0.5) / 8, (b + 0.5) / 8)); kWhole for every other element.
   std::vector<std::uint64_t> cells;
@@ -51,6 +49,9 @@ OpenParts open_parts(const Mesh& mesh, const RayScene& rays, std::stop_token sto
 
 // The open grid points of an element's `cells` (as OpenParts::cells).
 std::vector<Vec3> open_points(const Mesh& mesh, const Element& element, std::uint64_t cells);
+// The centre of an element's open part: the mean of its open points where it is partly open,
+// else (or with `open` null: all open) its centroid.
+Vec3 open_centre(const Mesh& mesh, const OpenParts* open, std::uint32_t element);
 
 Rgb interpolate(const Element& element, std::span<const Rgb> vertex_values, double u, double v);
 

@@ -150,7 +150,7 @@ TEST(ShotFormFactors, APartlyBuriedPatchShootsFromItsOpenPart) {
       const std::uint32_t i = patch.first + k;
       partly = partly || (open.share[i] > 0 && open.share[i] < 1);
       weight[k] = mesh.elements[i].area * open.share[i];
-      centre += weight[k] * open.centre[i];
+      centre += weight[k] * open_centre(mesh, &open, i);
       total += weight[k];
     }
     if (!partly) continue;
