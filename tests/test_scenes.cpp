@@ -69,6 +69,29 @@ Scene scene_of(std::vector<Object> objects, double rho, double emission) {
   return s;
 }
 
+Scene slab_across_a_closed_room(double rho, double emission) {
+  const double w = 4, h = 4, slab = 1.4;
+  const int n = 40;
+  TriangleMeshShape top;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) top.positions.push_back(Vec3(w * i / n, slab, w * j / n));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
+      top.triangles.push_back({a, c + 1, a + 1});  // facing up
+      top.triangles.push_back({a, c, c + 1});
+    }
+  Object ground;
+  ground.shape = top;
+  return scene_of({ground, quad({Vec3(0, h, 0), Vec3(w, h, 0), Vec3(w, h, w), Vec3(0, h, w)}, 8, 8),
+                   quad({Vec3(0, h, w), Vec3(w, h, w), Vec3(w, 0, w), Vec3(0, 0, w)}, 8, 8),
+                   quad({Vec3(0, 0, 0), Vec3(w, 0, 0), Vec3(w, h, 0), Vec3(0, h, 0)}, 8, 8),
+                   quad({Vec3(0, h, 0), Vec3(0, h, w), Vec3(0, 0, w), Vec3(0, 0, 0)}, 8, 8),
+                   quad({Vec3(w, 0, 0), Vec3(w, 0, w), Vec3(w, h, w), Vec3(w, h, 0)}, 8, 8),
+                   quad({Vec3(0, 0, 0), Vec3(0, 0, w), Vec3(w, 0, w), Vec3(w, 0, 0)}, 8, 8)},
+                  rho, emission);
+}
+
 Scene glossy_highlight() {
   Scene s = scene_of({quad({Vec3(-3, -3, 0), Vec3(3, -3, 0), Vec3(3, 3, 0), Vec3(-3, 3, 0)}),
                       quad(rectangle_facing_down(0.2, 0.2, 1), 1, 1, 1)},

@@ -40,6 +40,12 @@ PixelSpread pixel_spread(const Image& image);
 // A scene with one grey material of reflectance `rho` and emission `emission`.
 Scene scene_of(std::vector<Object> objects, double rho = 0.5, double emission = 0);
 
+// A closed 4 x 4 x 4 m room of quads (8 x 8 elements each, seen from inside) and, object 0,
+// a one-sided slab of 40 x 40 triangle pairs facing up across it at 1.4 m, where it cuts
+// the walls' second row of elements (1 to 1.5 m) near its top: the pocket beneath is closed
+// off. One material, as scene_of().
+Scene slab_across_a_closed_room(double rho = 0.5, double emission = 0);
+
 // A lamp's material: emits `emission`, reflects nothing.
 Material emitter(double emission);
 

@@ -120,27 +120,7 @@ TEST(Progressive, FurnaceOverHillsConvergesToo) {
 // back): the slab came out 1.076 of 2. Measured: the slab's mean B 0.998 of 2; the cut
 // elements' reflected light over their open strip 0.95 of 1.
 TEST(Progressive, FurnaceOverASlabAcrossTheWalls) {
-  const double w = 4, h = 4, slab = 1.4;  // the walls' second row spans 1.0 to 1.5
-  const int n = 40;
-  TriangleMeshShape top;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) top.positions.push_back(Vec3(w * i / n, slab, w * j / n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
-      top.triangles.push_back({a, c + 1, a + 1});  // facing up
-      top.triangles.push_back({a, c, c + 1});
-    }
-  Object ground;
-  ground.shape = top;
-  Scene s = test::scene_of(
-      {ground, test::quad({Vec3(0, h, 0), Vec3(w, h, 0), Vec3(w, h, w), Vec3(0, h, w)}, 8, 8),
-       test::quad({Vec3(0, h, w), Vec3(w, h, w), Vec3(w, 0, w), Vec3(0, 0, w)}, 8, 8),
-       test::quad({Vec3(0, 0, 0), Vec3(w, 0, 0), Vec3(w, h, 0), Vec3(0, h, 0)}, 8, 8),
-       test::quad({Vec3(0, h, 0), Vec3(0, h, w), Vec3(0, 0, w), Vec3(0, 0, 0)}, 8, 8),
-       test::quad({Vec3(w, 0, 0), Vec3(w, 0, w), Vec3(w, h, w), Vec3(w, h, 0)}, 8, 8),
-       test::quad({Vec3(0, 0, 0), Vec3(0, 0, w), Vec3(w, 0, w), Vec3(w, 0, 0)}, 8, 8)},
-      0.5, 1);
+  Scene s = test::slab_across_a_closed_room(0.5, 1);
   s.solver.unshot_fraction = 1e-3;
   s.solver.max_shots = 5000;
   const Mesh mesh = build_mesh(s);

@@ -110,26 +110,7 @@ TEST(ShotFormFactors, ACurvedPatchLightsTheSlopesAroundItAsItsTrianglesDo) {
 // with the slab's triangles beside a cut element taking its light as if it left its whole
 // area.
 TEST(ShotFormFactors, APartlyBuriedPatchShootsFromItsOpenPart) {
-  const double w = 4, h = 4, slab = 1.4;  // the walls' second row of elements spans 1 to 1.5
-  const int n = 40;
-  TriangleMeshShape top;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) top.positions.push_back(Vec3(w * i / n, slab, w * j / n));
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const std::uint32_t a = std::uint32_t(j * (n + 1) + i), c = a + std::uint32_t(n + 1);
-      top.triangles.push_back({a, c + 1, a + 1});  // facing up
-      top.triangles.push_back({a, c, c + 1});
-    }
-  Object ground;
-  ground.shape = top;
-  Scene s = test::scene_of(
-      {ground, test::quad({Vec3(0, h, 0), Vec3(w, h, 0), Vec3(w, h, w), Vec3(0, h, w)}, 8, 8),
-       test::quad({Vec3(0, h, w), Vec3(w, h, w), Vec3(w, 0, w), Vec3(0, 0, w)}, 8, 8),
-       test::quad({Vec3(0, 0, 0), Vec3(w, 0, 0), Vec3(w, h, 0), Vec3(0, h, 0)}, 8, 8),
-       test::quad({Vec3(0, h, 0), Vec3(0, h, w), Vec3(0, 0, w), Vec3(0, 0, 0)}, 8, 8),
-       test::quad({Vec3(w, 0, 0), Vec3(w, 0, w), Vec3(w, h, w), Vec3(w, h, 0)}, 8, 8),
-       test::quad({Vec3(0, 0, 0), Vec3(0, 0, w), Vec3(w, 0, w), Vec3(w, 0, 0)}, 8, 8)});
+  const Scene s = test::slab_across_a_closed_room();
   const Mesh mesh = build_mesh(s);
   const RayScene rays(mesh);
   const OpenParts open = open_parts(mesh, rays);
