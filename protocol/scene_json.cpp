@@ -634,10 +634,10 @@ Scene parse_scene(const json& document, const ImageFiles& outside,
     root["lights"].fail("punctual lights need \"direct_light\": \"exact\" (the default)");
 
   // Refuse oversized meshes before any memory is spent on them.
-  double size = default_element_size(scene);
+  const std::vector<double> sizes = object_element_sizes(scene);
   std::size_t total = 0;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    total += estimate_element_count(scene.objects[i], size);
+    total += estimate_element_count(scene.objects[i], sizes[i]);
     if (total > std::size_t(Limits::kMaxElements))
       objects[from[i]].fail("the scene would mesh into more than " +
                             std::to_string(Limits::kMaxElements) +

@@ -88,10 +88,11 @@ CostEstimate estimate_render_cost(const Scene& scene) {
       1 + (glossy ? c.glossy_samples : 0) + (mirror || glossy ? c.max_depth : 0);
   double emitters = 0;
   if (scene.solver.direct_light == DirectLight::Exact) {
-    const double size = default_element_size(scene);
-    for (const Object& o : scene.objects) {
+    const std::vector<double> sizes = object_element_sizes(scene);
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      const Object& o = scene.objects[i];
       const Rgb& e = scene.materials[std::size_t(o.material)].emission;
-      if (e.r + e.g + e.b > 0) emitters += double(estimate_element_count(o, size));
+      if (e.r + e.g + e.b > 0) emitters += double(estimate_element_count(o, sizes[i]));
     }
   }
   const double per_hit_s =
@@ -101,8 +102,9 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   const double samples = double(c.width) * c.height *
                          (c.antialias * c.antialias + (m > c.antialias ? m * m / 4.0 : 0));
   double elements = 0;
-  for (const Object& o : scene.objects)
-    elements += double(estimate_element_count(o, default_element_size(scene)));
+  const std::vector<double> sizes = object_element_sizes(scene);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    elements += double(estimate_element_count(scene.objects[i], sizes[i]));
   CostEstimate e;
   e.render_mesh_s = elements * kViewPerElement_s;
   e.render_s = samples * rays_per_sample * per_hit_s + e.render_mesh_s;
@@ -127,7 +129,7 @@ struct Part {
 };
 
 std::vector<Part> parts_of(const Scene& scene) {
-  const double size = default_element_size(scene);
+  const std::vector<double> sizes = object_element_sizes(scene);
   const std::vector<PatchEstimate> patches = estimate_patches(scene);
   std::vector<Part> parts;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
@@ -135,7 +137,7 @@ std::vector<Part> parts_of(const Scene& scene) {
     const Material& m = scene.materials[std::size_t(o.material)];
     const PatchEstimate& p = patches[i];
     Part part;
-    part.elements = double(estimate_element_count(o, size));
+    part.elements = double(estimate_element_count(o, sizes[i]));
     part.patches = double(p.count);
     part.groups = double(p.groups);
     part.side = p.side;

@@ -56,6 +56,36 @@ TEST(Mesh, ElementSizeSetsTheGridAndTheDefaultIsCoarse) {
   EXPECT_EQ(estimate_element_count(s.objects[0], default_element_size(s)), 126u);
 }
 
+// A flat object that a smaller solid touches is meshed at half the solid's size, down to a
+// quarter of the scene's (a sixteenth of the diagonal, about 0.35 m here): a 4 m floor with
+// a ball of radius 0.1 on it takes 0.1 m, with one of radius 0.02 a quarter of the scene's
+// size. A ball hovering 2 cm above the floor, a thin panel on it, and a scene that sets its
+// own size change nothing.
+TEST(Mesh, AFlatObjectASmallerSolidTouchesIsMeshedAtTheSolidsSize) {
+  Object floor;
+  floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
+  auto floor_size = [&](Shape other) {
+    Object o;
+    o.shape = std::move(other);
+    const Scene s = test::scene_of({floor, o});
+    const std::vector<double> sizes = object_element_sizes(s);
+    EXPECT_EQ(sizes[1], default_element_size(s)) << "the solid itself keeps the scene's size";
+    return sizes[0] / default_element_size(s);
+  };
+  const Scene alone = test::scene_of({floor});
+  ASSERT_NEAR(default_element_size(alone), std::sqrt(32.0) / 16, 1e-12);
+  EXPECT_NEAR(floor_size(SphereShape{Vec3(1, 0.1, 1), 0.1}) * default_element_size(alone), 0.1,
+              0.001);
+  EXPECT_EQ(floor_size(SphereShape{Vec3(1, 0.02, 1), 0.02}), 0.25);
+  EXPECT_EQ(floor_size(SphereShape{Vec3(1, 0.12, 1), 0.1}), 1) << "hovering 2 cm above";
+  EXPECT_EQ(floor_size(BoxShape{Vec3(1, 0.005, 1), Vec3(0.5, 0.01, 0.5)}), 1) << "a thin panel";
+  Object ball;
+  ball.shape = SphereShape{Vec3(1, 0.1, 1), 0.1};
+  Scene set = test::scene_of({floor, ball});
+  set.solver.element_size = 0.3;
+  EXPECT_EQ(object_element_sizes(set), std::vector<double>(2, 0.3));
+}
+
 // Patches keep about the default element size (a sixteenth of the diagonal) when elements
 // get finer, on flat shapes; curved ones and explicit settings keep their own.
 TEST(Mesh, FinerElementsOnFlatShapesShareLargerPatches) {
