@@ -30,6 +30,12 @@ double near_field_radius(const Patch& patch) {
 // a few a group, afford more.
 constexpr std::size_t kRaySamples = 16;
 constexpr std::size_t kLookoutSamples = 64;
+// A shooter smaller than the scene's natural patch (a square a sixteenth of its diagonal
+// across) is nearly a point to the groups it lights: its lookouts take this many. The
+// objects family's 600 sphere patches: its solve 10.0 -> 7.3 s at 10k triangles, 22.6 ->
+// 18.1 s at 90k, its error the same (2.51 %, 3.21-3.23 %); with every shooter at 16 the
+// terrain's hills had gone 1.17 -> 1.35 %.
+constexpr std::size_t kSmallShooterLookoutSamples = 16;
 // Within the near field, shooters of up to this many elements give Lambert's exact values.
 constexpr std::uint32_t kExactElements = 64;
 // Normals closer than this (the cosine between them) face alike.
@@ -161,7 +167,8 @@ class PatchRays {
   std::optional<Field> unoccluded_field(std::uint32_t patch, const ElementRun& group, double radius,
                                         double spread) const;
   // The share of the weighed patch's samples in view from `element` (NaN if none faces it),
-  // by its kRaySamples or, for a lookout, its kLookoutSamples.
+  // by its kRaySamples or, for a lookout, its kLookoutSamples (kSmallShooterLookoutSamples
+  // from a small shooter).
   enum class Samples { Receiver, Lookout };
   double visible_share(std::uint32_t element, Samples which = Samples::Receiver) const;
 
@@ -317,8 +324,10 @@ void PatchRays::weigh(std::uint32_t pi, std::span<const double> power) {
     shot_area_[k] =
         total > 0 ? patch.area * shot_area_[k] / total : mesh_.elements[patch.first + k].area;
   shot_samples_ = spread_points(mesh_, patch, shot_area_, open_, kRaySamples, int(kRaySamples));
-  lookout_samples_ =
-      spread_points(mesh_, patch, shot_area_, open_, kLookoutSamples, int(kLookoutSamples));
+  const double natural = mesh_.diagonal() / 16;
+  const std::size_t lookouts =
+      patch.area < natural * natural ? kSmallShooterLookoutSamples : kLookoutSamples;
+  lookout_samples_ = spread_points(mesh_, patch, shot_area_, open_, lookouts, int(lookouts));
 }
 
 // Ray casting: every element's form factor from rays.

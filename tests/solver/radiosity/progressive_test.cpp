@@ -278,15 +278,18 @@ TEST(Progressive, FineTrianglesReceiveAsGroupsWithoutPixelNoise) {
   }
 }
 
-// The same floor with a square between it and the lamp, whose penumbra (0.17 m wide) spans
-// about two groups: within a group the shadow must change from element to element as the
-// exact form factor does, not step at the group's edges. Exact: the lamp's form factor less
-// that of the part of it the square hides, which from a point of the floor is the square's
+// The fine floor above with a square between it and a lamp `lamp_side` across, 2 m up:
+// each floor element's radiosity against exact. Exact: the lamp's form factor less that of
+// the part of it the square hides, which from a point of the floor is the square's
 // projection onto the lamp's plane clipped to the lamp (both are axis-aligned rectangles).
-TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
+struct ShadowErrors {
+  double rms, penumbra_rms, worst;  // relative to each element's unshadowed value
+  int penumbra;                     // elements 2-98 % shadowed
+};
+ShadowErrors shadow_on_fine_floor(double lamp_side) {
   Object ground;
   ground.shape = test::square_of_triangles(Vec3(-0.5, -0.5, 0), 60, true);
-  const auto lamp = test::rectangle_facing_down(0.5, 0.5, 2);
+  const auto lamp = test::rectangle_facing_down(lamp_side, lamp_side, 2);
   const double x0 = -0.2, x1 = 0.1, y0 = -0.2, y1 = 0.1, height = 0.5;
   Object square = test::quad(
       {Vec3(x0, y0, height), Vec3(x1, y0, height), Vec3(x1, y1, height), Vec3(x0, y1, height)}, 1,
@@ -299,10 +302,12 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
   Mesh mesh = build_mesh(s);
   RayScene rays(mesh);
   ProgressiveSolver solver(mesh, s.materials, s.solver, &rays);
-  ASSERT_TRUE(solver.shoot());
+  EXPECT_TRUE(solver.shoot());
   const std::vector<Vec3> outline(lamp.begin(), lamp.end());
-  double squares = 0, penumbra_squares = 0, worst = 0;
-  int count = 0, penumbra = 0;
+  const double half = lamp_side / 2;
+  double squares = 0, penumbra_squares = 0;
+  ShadowErrors out{0, 0, 0, 0};
+  int count = 0;
   for (std::uint32_t i = 0; i < mesh.elements.size(); ++i) {
     const Element& e = mesh.elements[i];
     if (e.object != 1) continue;
@@ -310,10 +315,10 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
     auto onto_lamp = [&](double a, double pa) {
       return pa + (a - pa) * (2 - p.z) / (height - p.z);
     };
-    const double hx0 = std::max(-0.25, onto_lamp(x0, p.x)),
-                 hx1 = std::min(0.25, onto_lamp(x1, p.x));
-    const double hy0 = std::max(-0.25, onto_lamp(y0, p.y)),
-                 hy1 = std::min(0.25, onto_lamp(y1, p.y));
+    const double hx0 = std::max(-half, onto_lamp(x0, p.x)),
+                 hx1 = std::min(half, onto_lamp(x1, p.x));
+    const double hy0 = std::max(-half, onto_lamp(y0, p.y)),
+                 hy1 = std::min(half, onto_lamp(y1, p.y));
     const double open = 0.5 * point_to_polygon(p, e.normal, outline);
     double hidden = 0;
     if (hx0 < hx1 && hy0 < hy1) {
@@ -323,22 +328,43 @@ TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
     }
     const double error = (solver.radiosity()[i].g - (open - hidden)) / open;
     squares += error * error;
-    worst = std::max(worst, std::abs(error));
+    out.worst = std::max(out.worst, std::abs(error));
     ++count;
-    if (hidden > 0.02 * open && hidden < 0.98 * open) penumbra_squares += error * error, ++penumbra;
+    if (hidden > 0.02 * open && hidden < 0.98 * open)
+      penumbra_squares += error * error, ++out.penumbra;
   }
-  const double rms = std::sqrt(squares / count),
-               penumbra_rms = std::sqrt(penumbra_squares / penumbra);
+  out.rms = std::sqrt(squares / count);
+  out.penumbra_rms = std::sqrt(penumbra_squares / std::max(1, out.penumbra));
   std::printf(
-      "%d elements, %d in the penumbra: RMS %.3g (penumbra %.3g), worst %.3g of the unshadowed "
-      "value\n",
-      count, penumbra, rms, penumbra_rms, worst);
-  ASSERT_GT(penumbra, 1000);
-  // Measured: 1.7 % RMS, 3.2 % in the penumbra, 9.9 % worst (one visibility a group from
-  // four rays a lookout: 9.3 %, 18.5 %, 51 %).
-  EXPECT_LT(rms, 0.03);
-  EXPECT_LT(penumbra_rms, 0.05);
-  EXPECT_LT(worst, 0.2);
+      "lamp %.2f m: %d elements, %d in the penumbra: RMS %.3g (penumbra %.3g), worst %.3g "
+      "of the unshadowed value\n",
+      lamp_side, count, out.penumbra, out.rms, out.penumbra_rms, out.worst);
+  return out;
+}
+
+// A 0.5 m lamp: the square's penumbra (0.17 m wide) spans about two groups, and within a
+// group the shadow must change from element to element as the exact form factor does, not
+// step at the group's edges. Measured: 1.7 % RMS, 3.2 % in the penumbra, 9.9 % worst (one
+// visibility a group from four rays a lookout: 9.3 %, 18.5 %, 51 %).
+TEST(Progressive, GroupedReceiversFollowAPenumbraAcrossEachGroup) {
+  const ShadowErrors e = shadow_on_fine_floor(0.5);
+  ASSERT_GT(e.penumbra, 1000);
+  EXPECT_LT(e.rms, 0.03);
+  EXPECT_LT(e.penumbra_rms, 0.05);
+  EXPECT_LT(e.worst, 0.2);
+}
+
+// A lamp smaller than the scene's natural patch (0.12 m against 0.15 m) takes 16 rays a
+// lookout, not 64. Its penumbra is 4 cm wide, under half a group, and four lookouts a group
+// cannot follow it whatever their rays: measured 6.3 % RMS, 17 % in the penumbra, 46 % worst
+// (with 64 rays 6.1 %, 15 %, 42 %). The exact direct light of the view pass draws such
+// shadows; this is the light the floor reflects on.
+TEST(Progressive, ASmallLampsShadowOnGroupsFromFewerRays) {
+  const ShadowErrors e = shadow_on_fine_floor(0.12);
+  ASSERT_GT(e.penumbra, 200);
+  EXPECT_LT(e.rms, 0.075);
+  EXPECT_LT(e.penumbra_rms, 0.2);
+  EXPECT_LT(e.worst, 0.55);
 }
 
 // The floor the glowing-floor tests shoot from: 2 x 1 in z = 0, facing up, of nu x nv
