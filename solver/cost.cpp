@@ -11,6 +11,7 @@
 
 #include "solver/radiosity/map_basis.h"
 #include "solver/radiosity/shot_form_factors.h"
+#include "solver/render/error_estimate.h"
 #include "solver/scene/camera.h"
 #include "solver/scene/mesh.h"
 
@@ -243,16 +244,18 @@ CostEstimate estimate_cost(const Scene& scene) {
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
   e.solve_s += e.setup_s;
-  // solver.tolerance: a round of error estimation (1,024 pixels x 1,024 paths of about ten
-  // rays, and a view of at most 1024 x 512 at the camera's rays) each time the unshot target
-  // falls to a third, down to 1e-4.
+  // solver.tolerance: the estimator's traced pixels once (error_estimate.h: paths of about ten
+  // rays), and a round of estimation (a view of at most 1024 x 512 at the camera's rays) each
+  // time the unshot target falls to a third, down to 1e-4.
   double rounds = 0;
   if (s.tolerance > 0) {
     rounds = 1 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
     Scene view = scene;
     view.camera.width = std::min(view.camera.width, 1024);
     view.camera.height = std::min(view.camera.height, 512);
-    e.solve_s += rounds * (1024.0 * 1024 * 10 * kPerRay_s + estimate_render_cost(view).render_s);
+    const ErrorEstimateSettings traced;
+    e.solve_s += double(traced.pixels) * traced.paths * 10 * kPerRay_s +
+                 rounds * estimate_render_cost(view).render_s;
   }
   e.shots = shots;
   e.solve_terms =
