@@ -11,8 +11,10 @@
 #include <unordered_set>
 #include <utility>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "solver/scene/geometry.h"
 
@@ -658,42 +660,50 @@ double default_element_size(const Scene& scene) {
 // A ball standing on a floor shades the floor within its own size, in direct light (exact
 // per pixel in the view pass) and in the light the floor sends back up to the ball's
 // underside, which elements larger than the ball spread flat over the shadow: the ball's
-// bottom and the floor beside it came out 20-50 % too bright. So a flat object that a
-// smaller solid object touches (their boxes meet, within a twentieth of the solid's size)
-// is meshed at half that object's size (the middle of its box's three sides), down to a
-// quarter of the scene's size; a solid is an object whose box's shortest side is at least a
-// quarter of its middle one (not a lamp's panel under the ceiling). bumprad-bench-scale's
-// objects family (100 balls of 0.16-0.24 m on a floor in a 4 m room): its floor at 0.1 m
-// instead of 0.4 m, 3.08 -> 2.51 % off the path tracer at 10k triangles, 3.30 -> 3.21 % at
-// 90k (whose 1,000 shots then leave 8.9 % unshot, not 6.9 %).
+// bottom and the floor beside it came out 20-50 % too bright. So a quad that a smaller
+// chunky object touches (its box meets the quad's plane, within a twentieth of its size,
+// and the quad's box) is meshed at half that object's largest side, down to a quarter of
+// the scene's size. Chunky: the shortest side of its box at least a quarter of the longest,
+// so not a lamp's panel under a ceiling, a table's leg or a rug. Boxes are left as they are:
+// their grids share one size, and a room built as one box would be refined on all six faces
+// for what stands on its floor. bumprad-bench-scale's objects family (100 balls of
+// 0.16-0.24 m on a floor in a 4 m room): its floor at 0.1 m instead of 0.4 m, 3.08 -> 2.51 %
+// off the path tracer at 10k triangles, 3.30 -> 3.21 % at 90k (whose 1,000 shots then leave
+// 8.9 % unshot, not 6.9 %).
 std::vector<double> object_element_sizes(const Scene& scene) {
   const double size = default_element_size(scene);
   std::vector<double> out(scene.objects.size(), size);
   if (scene.solver.element_size > 0) return out;
   std::vector<std::pair<Vec3, Vec3>> bounds;
-  struct Solid {
+  struct Chunk {
     std::size_t index;
-    double middle;
+    double longest;
   };
-  std::vector<Solid> solids;
+  std::vector<Chunk> chunks;
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     bounds.push_back(object_bounds(scene.objects[i]));
     Vec3 sides = bounds.back().second - bounds.back().first;
     std::sort(&sides[0], &sides[0] + 3);
-    if (sides[1] > 0 && sides[0] >= 0.25 * sides[1]) solids.push_back({i, sides[1]});
+    if (sides[2] > 0 && sides[0] >= 0.25 * sides[2]) chunks.push_back({i, sides[2]});
   }
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-    const Object& o = scene.objects[i];
-    if (!std::holds_alternative<QuadShape>(o.shape) && !std::holds_alternative<BoxShape>(o.shape))
-      continue;
+    const auto* quad = std::get_if<QuadShape>(&scene.objects[i].shape);
+    if (!quad) continue;
+    const std::array<Vec3, 4>& p = quad->corners;
+    const Vec3 normal = glm::cross(p[2] - p[0], p[3] - p[1]);
+    if (!(glm::length(normal) > 0)) continue;
+    const Vec3 n = glm::normalize(normal);
     const auto& [lo, hi] = bounds[i];
-    for (const Solid& solid : solids) {
-      if (solid.index == i || !(solid.middle / 2 < out[i])) continue;
-      const Vec3 gap(solid.middle / 20);
-      const auto& [slo, shi] = bounds[solid.index];
-      if (glm::all(glm::lessThanEqual(slo - gap, hi)) &&
-          glm::all(glm::lessThanEqual(lo, shi + gap)))
-        out[i] = std::max(size / 4, solid.middle / 2);
+    for (const Chunk& chunk : chunks) {
+      if (chunk.index == i || !(chunk.longest / 2 < out[i])) continue;
+      const double gap = chunk.longest / 20;
+      const auto& [clo, chi] = bounds[chunk.index];
+      // The chunk's box's extent along the quad's normal, from the quad's plane.
+      const Vec3 centre = (clo + chi) / 2.0, half = (chi - clo) / 2.0;
+      const double along = glm::dot(centre - p[0], n), reach = glm::dot(half, glm::abs(n));
+      if (std::abs(along) - reach <= gap && glm::all(glm::lessThanEqual(clo - Vec3(gap), hi)) &&
+          glm::all(glm::lessThanEqual(lo, chi + Vec3(gap))))
+        out[i] = std::max(size / 4, chunk.longest / 2);
     }
   }
   return out;

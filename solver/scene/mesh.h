@@ -74,7 +74,7 @@ std::pair<Vec3, Vec3> object_bounds(const Object& object);
 // sixteenth of the bounding-box diagonal of all objects.
 double default_element_size(const Scene& scene);
 // Per object, the size it is meshed at where it does not say: default_element_size(), or
-// finer on a flat object (quad, box) that a smaller solid object touches (see the definition).
+// finer on a quad that a smaller chunky object touches (see the definition).
 std::vector<double> object_element_sizes(const Scene& scene);
 
 // The number of elements build_mesh will make for `object` (an upper bound: welding at

@@ -56,12 +56,12 @@ TEST(Mesh, ElementSizeSetsTheGridAndTheDefaultIsCoarse) {
   EXPECT_EQ(estimate_element_count(s.objects[0], default_element_size(s)), 126u);
 }
 
-// A flat object that a smaller solid touches is meshed at half the solid's size, down to a
-// quarter of the scene's (a sixteenth of the diagonal, about 0.35 m here): a 4 m floor with
-// a ball of radius 0.1 on it takes 0.1 m, with one of radius 0.02 a quarter of the scene's
-// size. A ball hovering 2 cm above the floor, a thin panel on it, and a scene that sets its
-// own size change nothing.
-TEST(Mesh, AFlatObjectASmallerSolidTouchesIsMeshedAtTheSolidsSize) {
+// A quad that a smaller chunky object touches is meshed at half the object's largest side,
+// down to a quarter of the scene's size (a sixteenth of the diagonal, about 0.35 m here): a
+// 4 m floor with a ball of radius 0.1 on it takes 0.1 m, with one of radius 0.02 a quarter
+// of the scene's size. A ball hovering 2 cm above the floor, a thin panel or a table's leg
+// on it, a room built as one box, and a scene that sets its own size change nothing.
+TEST(Mesh, AQuadASmallerChunkyObjectTouchesIsMeshedAtItsSize) {
   Object floor;
   floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
   auto floor_size = [&](Shape other) {
@@ -69,7 +69,7 @@ TEST(Mesh, AFlatObjectASmallerSolidTouchesIsMeshedAtTheSolidsSize) {
     o.shape = std::move(other);
     const Scene s = test::scene_of({floor, o});
     const std::vector<double> sizes = object_element_sizes(s);
-    EXPECT_EQ(sizes[1], default_element_size(s)) << "the solid itself keeps the scene's size";
+    EXPECT_EQ(sizes[1], default_element_size(s)) << "the other object keeps the scene's size";
     return sizes[0] / default_element_size(s);
   };
   const Scene alone = test::scene_of({floor});
@@ -79,8 +79,13 @@ TEST(Mesh, AFlatObjectASmallerSolidTouchesIsMeshedAtTheSolidsSize) {
   EXPECT_EQ(floor_size(SphereShape{Vec3(1, 0.02, 1), 0.02}), 0.25);
   EXPECT_EQ(floor_size(SphereShape{Vec3(1, 0.12, 1), 0.1}), 1) << "hovering 2 cm above";
   EXPECT_EQ(floor_size(BoxShape{Vec3(1, 0.005, 1), Vec3(0.5, 0.01, 0.5)}), 1) << "a thin panel";
-  Object ball;
+  EXPECT_EQ(floor_size(BoxShape{Vec3(1, 0.35, 1), Vec3(0.05, 0.7, 0.05)}), 1) << "a table's leg";
+  Object room, ball;
+  room.shape = BoxShape{Vec3(2, 1.5, 2), Vec3(4, 3, 4)};
+  room.flip_normals = true;
   ball.shape = SphereShape{Vec3(1, 0.1, 1), 0.1};
+  const Scene boxed = test::scene_of({room, ball});
+  EXPECT_EQ(object_element_sizes(boxed)[0], default_element_size(boxed)) << "a room as one box";
   Scene set = test::scene_of({floor, ball});
   set.solver.element_size = 0.3;
   EXPECT_EQ(object_element_sizes(set), std::vector<double>(2, 0.3));
