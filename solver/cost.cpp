@@ -89,14 +89,14 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   }
   const double rays_per_sample =
       1 + (glossy ? c.glossy_samples : 0) + (mirror || glossy ? c.max_depth : 0);
-  double emitters = 0;
-  if (scene.solver.direct_light == DirectLight::Exact) {
-    const std::vector<double> sizes = object_element_sizes(scene);
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-      const Object& o = scene.objects[i];
-      const Rgb& e = scene.materials[std::size_t(o.material)].emission;
-      if (e.r + e.g + e.b > 0) emitters += double(estimate_element_count(o, sizes[i]));
-    }
+  const std::vector<double> sizes = object_element_sizes(scene);
+  double emitters = 0, elements = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const Object& o = scene.objects[i];
+    const double n = double(estimate_element_count(o, sizes[i]));
+    elements += n;
+    const Rgb& e = scene.materials[std::size_t(o.material)].emission;
+    if (scene.solver.direct_light == DirectLight::Exact && e.r + e.g + e.b > 0) emitters += n;
   }
   const double per_hit_s =
       emitters > 0 ? (1 + c.shadow_rays) * kPerRay_s + emitters * kPerEmitterElement_s : kPerRay_s;
@@ -104,10 +104,6 @@ CostEstimate estimate_render_cost(const Scene& scene) {
   const int m = adaptive_antialias(c);
   const double samples = double(c.width) * c.height *
                          (c.antialias * c.antialias + (m > c.antialias ? m * m / 4.0 : 0));
-  double elements = 0;
-  const std::vector<double> sizes = object_element_sizes(scene);
-  for (std::size_t i = 0; i < scene.objects.size(); ++i)
-    elements += double(estimate_element_count(scene.objects[i], sizes[i]));
   CostEstimate e;
   e.render_mesh_s = elements * kViewPerElement_s;
   e.render_s = samples * rays_per_sample * per_hit_s + e.render_mesh_s;

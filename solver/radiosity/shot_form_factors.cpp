@@ -1,5 +1,4 @@
 #include "solver/radiosity/shot_form_factors.h"
-#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
