@@ -787,7 +787,8 @@ Mesh build_mesh(const Scene& scene, std::stop_token stop) {
   Mesh mesh;
   const std::vector<double> sizes = object_element_sizes(scene);
   const double patch_size = sixteenth_of_diagonal(scene);
-  const double weld_tol = default_element_size(scene) * 1e-6;
+  const double weld_tol =
+      (scene.solver.element_size > 0 ? scene.solver.element_size : patch_size) * 1e-6;
   for (std::uint32_t oi = 0; oi < scene.objects.size() && !stop.stop_requested(); ++oi) {
     const Object& object = scene.objects[oi];
     const double size = sizes[oi];
