@@ -124,7 +124,12 @@ struct Part {
   double elements = 0, patches = 0, groups = 0, side = 0, element_size = 0;
   Vec3 lo, hi;
   bool emitter = false, specular = false, bumpy = false, near_receiver = true, flat = false;
+  // Likely a cluster (solver/radiosity/clusters.h): a small smooth diffuse object of several
+  // patches, which shoot as one (its convexity is not checked here).
+  bool cluster = false;
   double reflectance = 0;
+  // The shooters it brings: its patches, or one cluster.
+  double shooters() const { return cluster ? 1 : patches; }
 };
 
 std::vector<Part> parts_of(const Scene& scene) {
@@ -150,8 +155,16 @@ std::vector<Part> parts_of(const Scene& scene) {
     // A mesh's triangles of at most one element receive in groups, outside the near field.
     if (const auto* mesh = std::get_if<TriangleMeshShape>(&o.shape))
       part.near_receiver = part.elements > double(mesh->triangles.size());
+    part.cluster = p.count >= 2 && !part.specular &&
+                   (std::holds_alternative<SphereShape>(o.shape) ||
+                    (std::holds_alternative<TriangleMeshShape>(o.shape) &&
+                     std::get<TriangleMeshShape>(o.shape).smooth));
     parts.push_back(part);
   }
+  Vec3 lo(INFINITY), hi(-INFINITY);
+  for (const Part& p : parts) lo = glm::min(lo, p.lo), hi = glm::max(hi, p.hi);
+  for (Part& p : parts)
+    p.cluster = p.cluster && glm::length(p.hi - p.lo) <= glm::length(hi - lo) / 16;
   return parts;
 }
 
@@ -179,9 +192,9 @@ double near_field_s(const std::vector<Part>& parts, const Part& a) {
 double shots_for(const std::vector<Part>& parts, const SolverSettings& s) {
   double patches = 0, emitters = 0, reflected = 0;
   for (const Part& p : parts) {
-    patches += p.patches;
-    emitters += p.emitter ? p.patches : 0;
-    reflected += p.patches * p.reflectance;
+    patches += p.shooters();
+    emitters += p.emitter ? p.shooters() : 0;
+    reflected += p.shooters() * p.reflectance;
   }
   if (patches == 0) return 0;
   // A tolerance shoots on, the unshot target falling to a third a round, at most to 1e-4;
@@ -203,30 +216,32 @@ CostEstimate estimate_cost(const Scene& scene) {
   CostEstimate e = estimate_render_cost(scene);
   const SolverSettings& s = scene.solver;
   const std::vector<Part> parts = parts_of(scene);
-  double elements = 0, bumpy = 0, patches = 0, emitter_patches = 0, groups = 0;
+  double elements = 0, bumpy = 0, patches = 0, shooters = 0, emitters = 0, groups = 0;
   for (const Part& p : parts) {
     elements += p.elements;
     groups += p.groups;
     bumpy += p.bumpy ? p.elements : 0;
     patches += p.patches;
-    emitter_patches += p.emitter ? p.patches : 0;
+    shooters += p.shooters();
+    emitters += p.emitter ? p.shooters() : 0;
   }
   const double shots = shots_for(parts, s);
+  const double hemicube_s =
+      kShotFixed_s + kPerHemicubePixel_s * double(s.hemicube_resolution) * s.hemicube_resolution;
   // The emitters' patches shoot first; the rest of the shots fall to all patches alike. Per
   // shot, a patch's share of them times what its shots cost beyond the hemi-cube.
-  const double first = std::min(shots, emitter_patches), rest = shots - first;
+  const double first = std::min(shots, emitters), rest = shots - first;
   double near_s = 0, specular_s = 0;
   for (const Part& p : parts) {
-    const double share = (p.emitter ? first * p.patches / emitter_patches : 0) +
-                         rest * p.patches / std::max(1.0, patches);
+    const double share = (p.emitter ? first * p.shooters() / emitters : 0) +
+                         rest * p.shooters() / std::max(1.0, shooters);
     if (share == 0) continue;
-    near_s += share * near_field_s(parts, p);
+    // A cluster has no near field, and draws a second half hemi-cube.
+    near_s += share * (p.cluster ? hemicube_s : near_field_s(parts, p));
     if (p.specular) specular_s += share * kSpecularShot_s;
   }
   const double map_values =
       s.texture == TextureMode::None || bumpy == 0 ? 0 : double(MapBasis(s.map).size());
-  const double hemicube_s =
-      kShotFixed_s + kPerHemicubePixel_s * double(s.hemicube_resolution) * s.hemicube_resolution;
   // Each adaptive level may split every element in four (up to the element limit) and
   // solves again from the start.
   for (int level = 0; level <= s.adaptive_levels; ++level) {

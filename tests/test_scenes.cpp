@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "solver/scene/phong_lobe.h"
+#include "solver/util/math.h"
 
 namespace bumprad::test {
 
@@ -56,6 +57,25 @@ TriangleMeshShape hills(int n, double side, const std::function<double(double, d
       m.triangles.push_back({b, c, d});
     }
   return m;
+}
+
+TriangleMeshShape ball(const Vec3& centre, double r, int rings) {
+  TriangleMeshShape out;
+  out.smooth = true;
+  for (int j = 0; j <= rings; ++j)
+    for (int i = 0; i <= 2 * rings; ++i) {
+      const double theta = kPi * j / rings, phi = kPi * i / rings;
+      out.positions.push_back(centre + r * Vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                                std::sin(theta) * std::sin(phi)));
+    }
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < 2 * rings; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (2 * rings + 1) + i), b = a + 1,
+                          c = a + std::uint32_t(2 * rings + 1), d = c + 1;
+      out.triangles.push_back({a, b, c});  // facing out
+      out.triangles.push_back({b, d, c});
+    }
+  return out;
 }
 
 Scene scene_of(std::vector<Object> objects, double rho, double emission) {

@@ -19,6 +19,10 @@ TriangleMeshShape square_of_triangles(const Vec3& corner, int n, bool smooth);
 // the vertex at (u, v) in [0, 1]^2 raised to height(u, v).
 TriangleMeshShape hills(int n, double side, const std::function<double(double, double)>& height);
 
+// A smooth ball of radius r about `centre`, facing out: latitude-longitude rings of
+// triangle pairs, 2 x rings around.
+TriangleMeshShape ball(const Vec3& centre, double r, int rings);
+
 // An axis-aligned w x h rectangle at height z facing down (-z), centred on the z axis.
 std::array<Vec3, 4> rectangle_facing_down(double w, double h, double z);
 

@@ -211,7 +211,7 @@ void Hemicube::render(const Vec3& origin, const Frame& frame,
                    face_indices[f].data());
   }
   glFinish();
-  render_seconds_ = seconds_since(t0);
+  render_seconds_ += seconds_since(t0);
 }
 
 std::span<const std::uint32_t> Hemicube::item_buffer() const {
@@ -219,24 +219,42 @@ std::span<const std::uint32_t> Hemicube::item_buffer() const {
 }
 
 std::vector<VisibleElement>& Hemicube::form_factors() {
+  return accumulate([&](std::size_t p) { return double(deltas_.dF(p)); }, !watched_.empty());
+}
+
+std::vector<VisibleElement>& Hemicube::form_factors(std::span<const Vec3> lobes) {
+  std::vector<glm::vec3> local(lobes.begin(), lobes.end());
+  return accumulate(
+      [&](std::size_t p) {
+        const glm::vec3 d = deltas_.directional(p);
+        float f = 0;
+        for (const glm::vec3& lobe : local) f += std::max(0.0f, glm::dot(lobe, d));
+        return double(f);
+      },
+      false);
+}
+
+template <typename Weight>
+std::vector<VisibleElement>& Hemicube::accumulate(Weight weight, bool watching) {
   auto t0 = Clock::now();
   visible_.clear();
   watched_pixels_.clear();
   const std::uint32_t* ids = context_.pixels();
-  const bool watching = !watched_.empty();
   for (std::size_t p = 0, n = deltas_.size(); p < n; ++p) {
     std::uint32_t id = ids[p];
     if (!id) continue;
+    const double w = weight(p);
+    if (!(w > 0)) continue;
     double& s = sums_[id - 1];
     if (s == 0) visible_.push_back({id - 1, 0});
-    s += deltas_.dF(p);
+    s += w;
     if (watching && watched_[id - 1]) watched_pixels_.push_back(std::uint32_t(p));
   }
   for (VisibleElement& v : visible_) {
     v.form_factor = sums_[v.element];
     sums_[v.element] = 0;
   }
-  accumulate_seconds_ = seconds_since(t0);
+  accumulate_seconds_ += seconds_since(t0);
   return visible_;
 }
 

@@ -64,6 +64,10 @@ class Hemicube {
   // F for every element seen in the last render: the sum of its pixels' dF (eq. 11-12).
   // The list is the caller's to adjust until the next call (e.g. near-field corrections).
   std::vector<VisibleElement>& form_factors();
+  // The same for light leaving the origin in `lobes` (local frame; clusters.h's
+  // member_lobes()): a pixel weighs sum max(0, lobe . R_p) dA / (pi r^4), the share a point
+  // with that intensity sends through it. Lists no watched pixels.
+  std::vector<VisibleElement>& form_factors(std::span<const Vec3> lobes);
 
   // Elements whose pixels form_factors() should also list (e.g. the bumpy ones the
   // perturbed map shoots to), so that nobody scans the item buffer a second time.
@@ -72,10 +76,14 @@ class Hemicube {
   const std::vector<std::uint32_t>& watched_pixels() const { return watched_pixels_; }
 
   const DeltaFormFactors& deltas() const { return deltas_; }
-  double last_render_seconds() const { return render_seconds_; }
-  double last_accumulate_seconds() const { return accumulate_seconds_; }
+  // Time spent rendering and accumulating, in all since it was made.
+  double render_seconds() const { return render_seconds_; }
+  double accumulate_seconds() const { return accumulate_seconds_; }
 
  private:
+  template <typename Weight>
+  std::vector<VisibleElement>& accumulate(Weight weight, bool watching);
+
   const Mesh& mesh_;
   DeltaFormFactors deltas_;
   GlContext context_;

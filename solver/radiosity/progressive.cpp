@@ -25,6 +25,10 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       open_(open),
       rng_(settings.seed) {
   for (const Patch& patch : mesh.patches) curved_patch_.push_back(curved(mesh, patch));
+  clusters_ = find_clusters(mesh, materials);
+  cluster_of_.assign(mesh.patches.size(), -1);
+  for (std::size_t c = 0; c < clusters_.size(); ++c)
+    for (std::uint32_t p : clusters_[c].patches) cluster_of_[p] = std::int32_t(c);
 }
 
 void ProgressiveSolver::shine(std::span<const PunctualSource> lights, const RayScene& rays,
@@ -86,8 +90,10 @@ bool ProgressiveSolver::done() const {
 
 bool ProgressiveSolver::shoot(std::stop_token stop) {
   auto t0 = Clock::now();
+  const ShotTiming before{hemicube_.render_seconds(), hemicube_.accumulate_seconds()};
   const std::optional<std::uint32_t> next = residuals_.next_patch();
   if (!next) return false;
+  if (const Cluster* cluster = cluster_shooting(*next)) return shoot(*cluster, stop);
   const Shooting shooting = residuals_.take(*next);
   const Patch& patch = mesh_.patches[shooting.patch];
 
@@ -125,14 +131,70 @@ bool ProgressiveSolver::shoot(std::stop_token stop) {
     texture_s = seconds_since(t1);
   }
   if (stop.stop_requested()) return false;
-  last_shot_ = {hemicube_.last_render_seconds(), hemicube_.last_accumulate_seconds(), texture_s,
-                specular_s, seconds_since(t0)};
+  time_shot(t0, before, texture_s, specular_s);
+  return true;
+}
+
+// A cluster shoots as soon as it holds more unshot power than the best patch: its patches
+// are small (a ball's sixth), and one at a time they shoot late and seldom (the objects
+// family's 100 balls at 90k triangles: 600 patches, 9 % of the light unshot after the
+// 1,000-shot cap).
+const Cluster* ProgressiveSolver::cluster_shooting(std::uint32_t next) const {
+  const Cluster* best =
+      cluster_of_[next] >= 0 ? &clusters_[std::size_t(cluster_of_[next])] : nullptr;
+  double most = std::abs(residuals_.unshot_power(next));
+  for (const Cluster& c : clusters_) {
+    double power = 0;
+    for (std::uint32_t p : c.patches) power += std::abs(residuals_.unshot_power(p));
+    if (power > most) most = power, best = &c;
+  }
+  return best;
+}
+
+// All the cluster's patches take their power and shoot it from its centre, each in its own
+// lobes; the perturbed map gets each receiver's light from the centre's direction.
+bool ProgressiveSolver::shoot(const Cluster& cluster, std::stop_token stop) {
+  auto t0 = Clock::now();
+  const ShotTiming before{hemicube_.render_seconds(), hemicube_.accumulate_seconds()};
+  std::vector<Shooting> members;
+  std::vector<std::vector<Vec3>> lobes;
+  for (std::uint32_t p : cluster.patches) {
+    members.push_back(residuals_.take(p));
+    lobes.push_back(member_lobes(mesh_, mesh_.patches[p], members.back().weight));
+  }
+  double angle = 0;
+  if (settings_.rotate_hemicube) angle = rng_.next() * (2 * std::numbers::pi);
+  const Frame frame = frame_about(Vec3(0, 1, 0), angle);
+  const std::vector<std::vector<VisibleElement>> visible =
+      form_factors_->find(cluster, lobes, frame, hemicube_, stop);
+  if (stop.stop_requested()) return false;
+  for (std::size_t m = 0; m < members.size(); ++m) residuals_.deliver(members[m], visible[m]);
+  ++shots_;
+  double texture_s = 0;
+  if (map_) {
+    auto t1 = Clock::now();
+    const bool exact = settings_.direct_light == DirectLight::Exact;
+    for (std::size_t m = 0; m < members.size(); ++m)
+      map_->shoot(hemicube_, frame, cluster.centre,
+                  exact ? members[m].power - members[m].emission : members[m].power, visible[m],
+                  stop);
+    texture_s = seconds_since(t1);
+  }
+  if (stop.stop_requested()) return false;
+  time_shot(t0, before, texture_s, 0);
+  return true;
+}
+
+void ProgressiveSolver::time_shot(Clock::time_point t0, const ShotTiming& before, double texture_s,
+                                  double specular_s) {
+  last_shot_ = {hemicube_.render_seconds() - before.render_s,
+                hemicube_.accumulate_seconds() - before.accumulate_s, texture_s, specular_s,
+                seconds_since(t0)};
   total_.render_s += last_shot_.render_s;
   total_.accumulate_s += last_shot_.accumulate_s;
   total_.texture_s += last_shot_.texture_s;
   total_.specular_s += last_shot_.specular_s;
   total_.total_s += last_shot_.total_s;
-  return true;
 }
 
 // A patch shoots from the centre of the power it shoots, not of its area: where a block

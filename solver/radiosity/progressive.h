@@ -12,6 +12,8 @@
 #include <stop_token>
 #include <vector>
 
+#include "common/stopwatch.h"
+#include "solver/radiosity/clusters.h"
 #include "solver/radiosity/hemicube.h"
 #include "solver/radiosity/residuals.h"
 #include "solver/radiosity/shot_form_factors.h"
@@ -50,9 +52,11 @@ class ProgressiveSolver {
   void attach_map(PerturbedMap* map);
 
   // One shot from the patch with the largest unshot power in magnitude (negative: shot
-  // ahead). False if nothing was left to shoot, or if `stop` ended it: its loops (near
-  // field, aliasing rays, specular transfer, the map's shoot) check it, and a stopped
-  // shot's power is lost, so the solver is then good for its statistics only.
+  // ahead), or from a cluster (clusters.h) whose patches hold more together, or that holds
+  // that patch: all its patches shoot, and it counts one shot. False if nothing was left to shoot,
+  // or if `stop` ended it: its loops (near field, aliasing rays, specular transfer, the map's
+  // shoot) check it, and a stopped shot's power is lost, so the solver is then good for its
+  // statistics only.
   bool shoot(std::stop_token stop = {});
   // True once the shot budget is spent or unshot power is below the threshold.
   bool done() const;
@@ -83,6 +87,12 @@ class ProgressiveSolver {
  private:
   // Where the patch shoots from: the centre of the power it shoots (see the definition).
   Vec3 shot_origin(const Shooting& shot) const;
+  // The cluster that shoots next instead of the patch `next`, if any.
+  const Cluster* cluster_shooting(std::uint32_t next) const;
+  bool shoot(const Cluster& cluster, std::stop_token stop);
+  // Books a shot's time, from t0 and the hemi-cube's totals before it.
+  void time_shot(Clock::time_point t0, const ShotTiming& hemicube_before, double texture_s,
+                 double specular_s);
 
   const Mesh& mesh_;
   SolverSettings settings_;
@@ -91,7 +101,9 @@ class ProgressiveSolver {
   SpecularTransfer specular_;
   Hemicube hemicube_;
   std::vector<bool> curved_patch_;  // per patch: curved() (geometry.h)
-  const OpenParts* open_;           // or null: all open
+  std::vector<Cluster> clusters_;
+  std::vector<std::int32_t> cluster_of_;  // per patch: its cluster in clusters_, or -1
+  const OpenParts* open_;                 // or null: all open
   int shots_ = 0;
   MersenneTwister rng_;
   PerturbedMap* map_ = nullptr;

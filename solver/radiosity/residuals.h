@@ -61,6 +61,8 @@ class Residuals {
 
   // The patch with the largest unshot power in magnitude, none when nothing is left.
   std::optional<std::uint32_t> next_patch() const;
+  // A patch's unshot power (channel sum, watts; negative: shot ahead).
+  double unshot_power(std::uint32_t patch) const { return patch_unshot_power_[patch]; }
   // Takes the patch's unshot power for a shot, and what it is yet to receive, sent ahead
   // (overshooting; see the definition).
   Shooting take(std::uint32_t patch);

@@ -16,6 +16,7 @@
 #include "solver/radiosity/ray_cast_form_factor.h"
 #include "solver/scene/geometry.h"
 #include "solver/util/frame.h"
+#include "solver/util/math.h"
 #include "solver/util/parallel.h"
 
 namespace bumprad {
@@ -49,6 +50,18 @@ void at_most_one(std::vector<VisibleElement>& visible) {
   for (const VisibleElement& v : visible) total += v.form_factor;
   if (total > 1)
     for (VisibleElement& v : visible) v.form_factor /= total;
+}
+
+// What a shot's receivers outside the groups keep of the `seen` their pixels gave them (of
+// it `far` beyond the near field), when the near field changed its receivers' light by
+// `near_change` and the groups' rays changed theirs by `groups_change`, the hemi-cube having
+// rendered `rendered` in all: the changes come from the rest of the hemisphere, the void and
+// the far receivers in the shares the centre sees them (see HemicubeFormFactors::find()).
+double kept_light(double rendered, double seen, double far, double near_change,
+                  double groups_change) {
+  const double void_ = std::max(0.0, 1 - rendered);
+  const double to_void = void_ > 0 ? void_ / (void_ + std::max(0.0, far)) : 0;
+  return std::max(0.0, seen + near_change * to_void - groups_change * (1 - to_void));
 }
 
 // Points spread over a shooting patch, at most `most`, each with the part of `weight` (one
@@ -143,6 +156,8 @@ class PatchRays {
   // Weighs patch `pi`'s samples for its shot, by the power each element shoots or, if
   // `power` is empty, by its open area (see the definition).
   void weigh(std::uint32_t pi, std::span<const double> power);
+  // Weighs a cluster instead, for visible_share() alone: see cluster_view().
+  void weigh(const Cluster& cluster);
   // F from the weighed patch to `element` (see the definition).
   double form_factor(std::uint32_t patch, std::uint32_t element) const;
   // The same were nothing in the way.
@@ -180,6 +195,9 @@ class PatchRays {
   // The shooting patch's area per element as it shoots, and its ray samples so weighed.
   std::vector<double> shot_area_;
   std::vector<AreaSample> shot_samples_, lookout_samples_;
+  double cluster_view(const Element& e) const;
+  Vec3 cluster_centre_{0};
+  double cluster_radius_ = 0;  // 0: a patch is weighed
 };
 
 // F_pj = F(dA_j -> A_p) A_j / A_p by reciprocity, the receiver at the element's centre: the
@@ -293,6 +311,7 @@ std::optional<PatchRays::Field> PatchRays::unoccluded_field(std::uint32_t patch,
 
 double PatchRays::visible_share(std::uint32_t element, Samples which) const {
   const Element& e = mesh_.elements[element];
+  if (cluster_radius_ > 0) return cluster_view(e);
   const auto& samples = which == Samples::Lookout ? lookout_samples_ : shot_samples_;
   const double open = ray_cast_form_factor(e.centroid, e.normal, samples, nullptr, 0);
   if (!(open > 0)) return std::numeric_limits<double>::quiet_NaN();
@@ -312,6 +331,7 @@ double PatchRays::visible_share(std::uint32_t element, Samples which) const {
 // from rays, the power's weights follow overshooting's corrections over the patch (their
 // magnitudes; the signs mix), and the furnace's worst element went from 0.3 to 0.9 % off.
 void PatchRays::weigh(std::uint32_t pi, std::span<const double> power) {
+  cluster_radius_ = 0;
   const Patch& patch = mesh_.patches[pi];
   shot_area_.resize(patch.count);
   for (std::uint32_t k = 0; k < patch.count; ++k)
@@ -329,6 +349,40 @@ void PatchRays::weigh(std::uint32_t pi, std::span<const double> power) {
   lookout_samples_ = spread_points(mesh_, patch, shot_area_, open_, lookouts, int(lookouts));
 }
 
+void PatchRays::weigh(const Cluster& cluster) {
+  cluster_centre_ = cluster.centre;
+  cluster_radius_ = cluster.radius;
+}
+
+// A cluster's share in view: shadow rays to nine points on the side of its bounding sphere
+// that faces the receiver (the point toward it, and eight about that, 0.6 of the radius
+// across, or fewer where the receiver is so near that their tangent planes would turn away
+// from it). Outside the cluster, so that no ray meets the cluster itself: rays to points
+// on its own surface (four a member) graze it near its outline, and a floor beside a ball
+// saw 26 % too little of it.
+double PatchRays::cluster_view(const Element& e) const {
+  const Vec3 from = e.centroid + e.normal * centroid_ray_offset(mesh_);
+  const Vec3 d = from - cluster_centre_;
+  const double distance = glm::length(d), r = cluster_radius_;
+  if (!(distance > r) || glm::dot(e.normal, d) >= 0)
+    return std::numeric_limits<double>::quiet_NaN();
+  const Frame frame = frame_about(d / distance);
+  const double lift =
+      std::min(1.0, 1.1 * r / distance);  // the points' least height over the centre
+  const double ring = std::min(0.6, std::sqrt(1 - lift * lift));
+  int seen = 0;
+  constexpr int kPoints = 9;
+  for (int k = 0; k < kPoints; ++k) {
+    const double a = k == 0 ? 0 : ring * std::cos(2 * kPi * k / (kPoints - 1)),
+                 b = k == 0 ? 0 : ring * std::sin(2 * kPi * k / (kPoints - 1));
+    const Vec3 to = cluster_centre_ + r * frame.to_world(Vec3(a, b, std::sqrt(1 - a * a - b * b)));
+    const Vec3 path = to - from;
+    const double length = glm::length(path);
+    seen += !rays_.occluded({from, path / length}, length);
+  }
+  return double(seen) / kPoints;
+}
+
 // Ray casting: every element's form factor from rays.
 class RayCastFormFactors : public ShotFormFactors {
  public:
@@ -337,6 +391,10 @@ class RayCastFormFactors : public ShotFormFactors {
   bool reads_hemicube() const override { return false; }
   void begin(const Shot& shot) override { rays_.weigh(shot.patch, {}); }
   std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
+  std::vector<std::vector<VisibleElement>> find(const Cluster& cluster,
+                                                std::span<const std::vector<Vec3>> lobes,
+                                                const Frame& frame, Hemicube& hemicube,
+                                                std::stop_token stop) override;
 
  private:
   const Mesh& mesh_;
@@ -360,6 +418,34 @@ std::vector<VisibleElement>& RayCastFormFactors::find(const Shot& shot, Hemicube
   return visible_;
 }
 
+// Every element outside the cluster: the lobes' value times the share of the cluster's
+// facing side its rays see.
+std::vector<std::vector<VisibleElement>> RayCastFormFactors::find(
+    const Cluster& cluster, std::span<const std::vector<Vec3>> lobes, const Frame&, Hemicube&,
+    std::stop_token stop) {
+  rays_.weigh(cluster);
+  std::vector<double> view(mesh_.elements.size(), 0.0);
+  parallel_for(
+      int(view.size()),
+      [&](int j) {
+        if (mesh_.elements[std::size_t(j)].object == cluster.object) return;
+        const double share = rays_.visible_share(std::uint32_t(j));
+        view[std::size_t(j)] = share > 0 ? share : 0;
+      },
+      stop);
+  std::vector<std::vector<VisibleElement>> out(lobes.size());
+  for (std::size_t m = 0; m < lobes.size(); ++m) {
+    for (std::uint32_t j = 0; j < view.size(); ++j)
+      if (view[j] > 0)
+        if (const double f =
+                cluster_form_factor(mesh_, lobes[m], cluster.centre, mesh_.elements[j]);
+            f > 0)
+          out[m].push_back({j, f * view[j]});
+    at_most_one(out[m]);
+  }
+  return out;
+}
+
 // The hemi-cube, with the near field put right and the aliasing receivers taken from rays.
 class HemicubeFormFactors : public ShotFormFactors {
  public:
@@ -368,8 +454,18 @@ class HemicubeFormFactors : public ShotFormFactors {
   bool reads_hemicube() const override { return true; }
   void begin(const Shot& shot) override;
   std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) override;
+  std::vector<std::vector<VisibleElement>> find(const Cluster& cluster,
+                                                std::span<const std::vector<Vec3>> lobes,
+                                                const Frame& frame, Hemicube& hemicube,
+                                                std::stop_token stop) override;
 
  private:
+  // A cluster's receivers from rays, per member (see the definition).
+  struct ClusterRays {
+    std::vector<std::vector<VisibleElement>> aliased, grouped;
+  };
+  ClusterRays cluster_rays(const Cluster& cluster, std::span<const std::vector<Vec3>> lobes,
+                           std::stop_token stop) const;
   // What needs no hemi-cube, found while it renders (see the definitions).
   struct Prepared {
     std::vector<std::uint32_t> near;  // receivers within near_field_radius
@@ -388,6 +484,10 @@ class HemicubeFormFactors : public ShotFormFactors {
   std::vector<VisibleElement> hidden_near(const Shot& shot,
                                           std::span<const std::uint32_t> near) const;
   std::vector<VisibleElement> grouped(const Shot& shot) const;
+  // Per lookout, the share of the weighed shooter its rays see (NaN: it faces none of it).
+  std::vector<double> lookout_views(std::stop_token stop) const;
+  // Element j of groups_[k]: the share of the shooter it sees, its lookouts' `seen` blended.
+  double blended_view(std::size_t k, std::uint32_t j, std::span<const double> seen) const;
   void share_by_rays(const Shot& shot);
   double grouped_unoccluded(const Shot& shot, std::uint32_t element) const;
   double beyond_near_points(const Shot& shot, const Vec3& at) const;
@@ -718,15 +818,7 @@ std::vector<VisibleElement> HemicubeFormFactors::hidden_near(
 // receive too: a curved patch's triangles that face each other (a valley) light each other,
 // and a closed room of hills left out that light, 16 % short in its valleys.
 std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const {
-  // NaN: the lookout faces none of the shooter, and takes no part.
-  std::vector<double> seen(lookouts_.size());
-  parallel_for(
-      int(lookouts_.size()),
-      [&](int l) {
-        seen[std::size_t(l)] =
-            rays_->visible_share(lookouts_[std::size_t(l)], PatchRays::Samples::Lookout);
-      },
-      shot.stop);
+  const std::vector<double> seen = lookout_views(shot.stop);
   std::vector<std::vector<VisibleElement>> per_group(groups_.size());
   parallel_for(
       int(groups_.size()),
@@ -742,18 +834,36 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
           const double f = (field ? (*field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
                            (open_ ? open_->share[j] : 1);
           if (!(f > 0)) continue;
-          const Blend& b = blends_[first_blend_[std::size_t(k)] + j - group.first];
-          double visible = 0, weights = 0;
-          for (std::size_t i = 0; i < 4; ++i)
-            if (b.weight[i] > 0 && !std::isnan(seen[b.lookout[i]]))
-              visible += b.weight[i] * seen[b.lookout[i]], weights += b.weight[i];
-          if (weights > 0 && visible > 0) out.push_back({j, f * visible / weights});
+          const double visible = blended_view(std::size_t(k), j, seen);
+          if (visible > 0) out.push_back({j, f * visible});
         }
       },
       shot.stop);
   std::vector<VisibleElement> all;
   for (const auto& g : per_group) all.insert(all.end(), g.begin(), g.end());
   return all;
+}
+
+std::vector<double> HemicubeFormFactors::lookout_views(std::stop_token stop) const {
+  std::vector<double> seen(lookouts_.size());
+  parallel_for(
+      int(lookouts_.size()),
+      [&](int l) {
+        seen[std::size_t(l)] =
+            rays_->visible_share(lookouts_[std::size_t(l)], PatchRays::Samples::Lookout);
+      },
+      stop);
+  return seen;
+}
+
+double HemicubeFormFactors::blended_view(std::size_t k, std::uint32_t j,
+                                         std::span<const double> seen) const {
+  const Blend& b = blends_[first_blend_[k] + j - mesh_.groups[groups_[k]].first];
+  double visible = 0, weights = 0;
+  for (std::size_t i = 0; i < 4; ++i)
+    if (b.weight[i] > 0 && !std::isnan(seen[b.lookout[i]]))
+      visible += b.weight[i] * seen[b.lookout[i]], weights += b.weight[i];
+  return weights > 0 ? visible / weights : 0;
 }
 
 std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicube& hemicube, bool) {
@@ -813,10 +923,8 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
   // floor patch whose centre lies under a ball on it saw the ball in 84 % of its hemi-cube
   // where the rays found 26 %, and the 58 % between was lost (a closed room of balls let 9 %
   // of its light escape; the scale bench's closed terrain 0.8 %, which left it 2 % dark).
-  const double void_ = std::max(0.0, 1 - rendered), far = seen - seen_near;
-  const double to_void = void_ > 0 ? void_ / (void_ + std::max(0.0, far)) : 0;
-  const double kept = std::max(0.0, seen + (corrected_near - seen_near) * to_void -
-                                        (grouped_rays - grouped_pixels) * (1 - to_void));
+  const double kept = kept_light(rendered, seen, seen - seen_near, corrected_near - seen_near,
+                                 grouped_rays - grouped_pixels);
   const double scale = corrected > 0 ? kept / corrected : 0;
   for (VisibleElement& v : visible_) v.form_factor *= scale;
 
@@ -834,6 +942,123 @@ std::vector<VisibleElement>& HemicubeFormFactors::find(const Shot& shot, Hemicub
   visible_.insert(visible_.end(), prepared.grouped.begin(), prepared.grouped.end());
   at_most_one(visible_);
   return visible_;
+}
+
+// A cluster's shot: its pixels from two half hemi-cubes at its centre, the rays' receivers
+// found meanwhile, the light balanced as a patch's shot balances it. No near field: the
+// point is exact for a uniformly bright ball wherever a receiver sees all of it, as a
+// floor does even where the ball touches it.
+std::vector<std::vector<VisibleElement>> HemicubeFormFactors::find(
+    const Cluster& cluster, std::span<const std::vector<Vec3>> lobes, const Frame& frame,
+    Hemicube& hemicube, std::stop_token stop) {
+  const std::size_t members = lobes.size();
+  std::future<ClusterRays> rays;
+  if (rays_) {
+    rays_->weigh(cluster);
+    rays = std::async(std::launch::async, [&] { return cluster_rays(cluster, lobes, stop); });
+  }
+  std::vector<std::vector<VisibleElement>> out(members);
+  std::vector<double> rendered(members, 0), grouped_pixels(members, 0);
+  for (const Frame& half : {frame, Frame{frame.x, -frame.y, -frame.z}}) {
+    hemicube.render(cluster.centre, half, std::nullopt);
+    for (std::size_t m = 0; m < members; ++m) {
+      std::vector<Vec3> local;
+      for (const Vec3& lobe : lobes[m]) local.push_back(half.to_local(lobe));
+      for (const VisibleElement& v : hemicube.form_factors(local)) {
+        rendered[m] += v.form_factor;
+        if (grouped_[v.element])
+          grouped_pixels[m] += v.form_factor;
+        else
+          out[m].push_back(v);
+      }
+    }
+  }
+  ClusterRays found = rays.valid() ? rays.get() : ClusterRays{};
+  found.aliased.resize(members);
+  found.grouped.resize(members);
+  for (std::size_t m = 0; m < members && !stop.stop_requested(); ++m) {
+    std::vector<VisibleElement> merged;  // an element seen in both halves sums its pixels
+    for (const VisibleElement& v : out[m]) {
+      std::int32_t& slot = visible_slot_[v.element];
+      if (slot < 0) {
+        slot = std::int32_t(merged.size());
+        merged.push_back(v);
+      } else {
+        merged[std::size_t(slot)].form_factor += v.form_factor;
+      }
+    }
+    double seen = 0, grouped_rays = 0;
+    for (const VisibleElement& v : merged) seen += v.form_factor;
+    for (const VisibleElement& v : found.grouped[m]) grouped_rays += v.form_factor;
+    const double kept = kept_light(rendered[m], seen, seen, 0, grouped_rays - grouped_pixels[m]);
+    for (VisibleElement& v : merged) v.form_factor *= seen > 0 ? kept / seen : 0;
+    for (const VisibleElement& s : found.aliased[m]) {
+      if (visible_slot_[s.element] >= 0)
+        merged[std::size_t(visible_slot_[s.element])].form_factor = s.form_factor;
+      else if (s.form_factor > 0)
+        merged.push_back(s);
+    }
+    for (const VisibleElement& v : merged) visible_slot_[v.element] = -1;
+    merged.insert(merged.end(), found.grouped[m].begin(), found.grouped[m].end());
+    at_most_one(merged);
+    out[m] = std::move(merged);
+  }
+  return out;
+}
+
+// A cluster's aliasing receivers and groups, per member: the point's form factor
+// (cluster_form_factor()) times the share of the cluster the receiver's rays, or its
+// lookouts', see. The cluster's own elements receive nothing: it is convex.
+HemicubeFormFactors::ClusterRays HemicubeFormFactors::cluster_rays(
+    const Cluster& cluster, std::span<const std::vector<Vec3>> lobes, std::stop_token stop) const {
+  const std::size_t members = lobes.size();
+  ClusterRays out{std::vector<std::vector<VisibleElement>>(members),
+                  std::vector<std::vector<VisibleElement>>(members)};
+  const double pixel = 4.0 / (double(resolution_) * double(resolution_));
+  std::vector<std::uint32_t> aliased;
+  for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
+    const Element& e = mesh_.elements[j];
+    if (e.object == cluster.object || grouped_[j]) continue;
+    const Vec3 d = e.centroid - cluster.centre;
+    const double r = glm::length(d), cos_r = -glm::dot(e.normal, d) / r;
+    if (cos_r > 0 && e.area * cos_r / (r * r * r) < alias_pixels_ * pixel) aliased.push_back(j);
+  }
+  std::vector<double> view(aliased.size());
+  parallel_for(
+      int(aliased.size()),
+      [&](int k) { view[std::size_t(k)] = rays_->visible_share(aliased[std::size_t(k)]); }, stop);
+  for (std::size_t m = 0; m < members; ++m)
+    for (std::size_t k = 0; k < aliased.size(); ++k) {
+      const Element& e = mesh_.elements[aliased[k]];
+      const double f =
+          view[k] > 0 ? cluster_form_factor(mesh_, lobes[m], cluster.centre, e) * view[k] : 0;
+      out.aliased[m].push_back({aliased[k], f});
+    }
+
+  const std::vector<double> seen = lookout_views(stop);
+  std::vector<std::vector<std::vector<VisibleElement>>> per_group(groups_.size());
+  parallel_for(
+      int(groups_.size()),
+      [&](int k) {
+        const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
+        if (mesh_.elements[group.first].object == cluster.object) return;
+        auto& lists = per_group[std::size_t(k)];
+        lists.resize(members);
+        for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
+          const double visible = blended_view(std::size_t(k), j, seen);
+          if (!(visible > 0)) continue;
+          const Element& e = mesh_.elements[j];
+          const double open = open_ ? open_->share[j] : 1;
+          for (std::size_t m = 0; m < members; ++m)
+            if (const double f = cluster_form_factor(mesh_, lobes[m], cluster.centre, e); f > 0)
+              lists[m].push_back({j, f * open * visible});
+        }
+      },
+      stop);
+  for (const auto& lists : per_group)
+    for (std::size_t m = 0; m < lists.size(); ++m)
+      out.grouped[m].insert(out.grouped[m].end(), lists[m].begin(), lists[m].end());
+  return out;
 }
 
 // A patch's hemi-cube looks from its centre, and where a small object stands there (a ball

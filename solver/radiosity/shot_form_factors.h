@@ -12,6 +12,7 @@
 #include <stop_token>
 #include <vector>
 
+#include "solver/radiosity/clusters.h"
 #include "solver/radiosity/hemicube.h"
 #include "solver/radiosity/vertex_radiosity.h"
 #include "solver/scene/mesh.h"
@@ -46,6 +47,13 @@ class ShotFormFactors {
   // F from the patch to each element it reaches (summing to at most 1). With `map`, the
   // hemi-cube's watched pixels are listed too (Hemicube::watch), whatever the method.
   virtual std::vector<VisibleElement>& find(const Shot& shot, Hemicube& hemicube, bool map) = 0;
+  // A cluster's shot: per member (in cluster.patches' order), F to each element outside the
+  // cluster, its light leaving the centre in the member's `lobes` (member_lobes()). The
+  // hemi-cube, where read, is rendered here: both halves about `frame`, from the centre.
+  virtual std::vector<std::vector<VisibleElement>> find(const Cluster& cluster,
+                                                        std::span<const std::vector<Vec3>> lobes,
+                                                        const Frame& frame, Hemicube& hemicube,
+                                                        std::stop_token stop) = 0;
 };
 
 // The settings' method (SolverSettings::form_factors). `rays` (over the same mesh) serves

@@ -172,6 +172,44 @@ TEST(Hemicube, ItemBufferIdsMatchGeometryInAClosedRoom) {
   EXPECT_EQ(checked, h.deltas().size());
 }
 
+// Light leaving a point in lobes (a cluster's, clusters.h), drawn as two halves about a
+// frame and its flip: in a closed room all of it lands, whichever way the lobes point; a
+// single lobe along the frame's axis weighs the pixels as the delta form factors do.
+TEST(Hemicube, LobesFromAPointLandAllTheirLightOverTwoHalves) {
+  Scene s = test::scene_of({});
+  Object room;
+  room.shape = BoxShape{Vec3(0), Vec3(2, 3, 2.5), Vec3(0)};
+  room.flip_normals = true;
+  s.objects.push_back(room);
+  const Mesh mesh = build_mesh(s);
+  Hemicube h(mesh, 100);
+  const Vec3 origin(0.2, -0.3, 0.1);
+  const Frame frame = frame_about(glm::normalize(Vec3(0.3, 0.5, -0.8)), 0.7);
+  const Frame flipped{frame.x, -frame.y, -frame.z};
+  const std::vector<std::vector<Vec3>> cases = {
+      {Vec3(1, 0, 0)},
+      {0.5 * glm::normalize(Vec3(1, 2, 3)), 0.5 * glm::normalize(Vec3(-1, 0.2, 0.1))},
+      {frame.z}};
+  for (const std::vector<Vec3>& lobes : cases) {
+    double landed = 0;
+    for (const Frame& half : {frame, flipped}) {
+      h.render(origin, half, std::nullopt);
+      std::vector<Vec3> local;
+      for (const Vec3& lobe : lobes) local.push_back(half.to_local(lobe));
+      for (const VisibleElement& v : h.form_factors(local)) landed += v.form_factor;
+    }
+    EXPECT_NEAR(landed, 1, 2e-3);
+  }
+  h.render(origin, frame, std::nullopt);
+  const std::vector<VisibleElement> plain = h.form_factors();
+  const std::vector<VisibleElement> lobe = h.form_factors(std::vector<Vec3>{Vec3(0, 0, 1)});
+  ASSERT_EQ(plain.size(), lobe.size());
+  for (std::size_t i = 0; i < plain.size(); ++i) {
+    EXPECT_EQ(plain[i].element, lobe[i].element);
+    EXPECT_NEAR(plain[i].form_factor, lobe[i].form_factor, 1e-6);
+  }
+}
+
 TEST(DeltaFormFactors, PixelForADirectionAndTheMirrorTable) {
   DeltaFormFactors d(64);
   for (std::size_t p = 0; p < d.size(); ++p) {
