@@ -194,6 +194,7 @@ class PatchRays {
   const OpenParts* open_;  // or null: all open
   // The shooting patch's area per element as it shoots, and its ray samples so weighed.
   std::vector<double> shot_area_;
+  std::vector<double> shot_radius_;  // per element of the shooter: element_radius()
   std::vector<AreaSample> shot_samples_, lookout_samples_;
   double cluster_view(const Element& e) const;
   Vec3 cluster_centre_{0};
@@ -212,8 +213,10 @@ double PatchRays::form_factor(std::uint32_t patch, std::uint32_t element) const 
 // Near field, point sampling falls far short
 // (tests/solver/radiosity/ray_cast_form_factor_test.cpp): there Lambert's exact value from
 // each of the shooter's elements, while it has at most kExactElements (a receiver then
-// costs one polygon each; a finer shooter keeps the samples). An element of the shooter
-// takes nothing from itself.
+// costs one polygon each; a finer shooter keeps the samples), or a small patch's beyond
+// kSmallPatchRadii of an element that is all open (form_factor_exact.h: the arc cosines
+// had been a fifth of the objects family's solve). An element of the shooter takes nothing
+// from itself.
 double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
   const Element& e = mesh_.elements[element];
   const Patch& p = mesh_.patches[patch];
@@ -223,7 +226,15 @@ double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
     for (std::uint32_t k = 0; k < p.count; ++k) {
       const std::uint32_t s = p.first + k;
       if (s == element) continue;
-      const std::span<const Vec3> corners = element_corners(mesh_, mesh_.elements[s], storage);
+      const Element& shooter = mesh_.elements[s];
+      const Vec3 d = shooter.centroid - e.centroid;
+      const double r2 = glm::dot(d, d), reach = kSmallPatchRadii * shot_radius_[k];
+      if (r2 > reach * reach && !(open_ && open_->partly_open(s))) {
+        const double cos_r = glm::dot(e.normal, d), cos_s = -glm::dot(shooter.normal, d);
+        if (cos_r > 0 && cos_s > 0) f += shot_area_[k] * cos_r * cos_s / (kPi * r2 * r2);
+        continue;
+      }
+      const std::span<const Vec3> corners = element_corners(mesh_, shooter, storage);
       f += shot_area_[k] / shooting_area(s, e, corners) *
            point_to_polygon(e.centroid, e.normal, corners);
     }
@@ -334,6 +345,9 @@ void PatchRays::weigh(std::uint32_t pi, std::span<const double> power) {
   cluster_radius_ = 0;
   const Patch& patch = mesh_.patches[pi];
   shot_area_.resize(patch.count);
+  shot_radius_.resize(patch.count);
+  for (std::uint32_t k = 0; k < patch.count; ++k)
+    shot_radius_[k] = element_radius(mesh_, mesh_.elements[patch.first + k]);
   for (std::uint32_t k = 0; k < patch.count; ++k)
     shot_area_[k] = power.empty() ? mesh_.elements[patch.first + k].area *
                                         (open_ ? open_->share[patch.first + k] : 1)
