@@ -57,6 +57,9 @@ std::size_t normal_bin(const Vec3& n) {
 // A cluster's patches are curved but for slivers: where a ball straddles the cells patches
 // are cut by, a few of its triangles make a flat patch of their own.
 constexpr double kCurvedShare = 0.9;
+// And open but for slivers: a ball resting on a floor buries none of itself (its elements
+// are open where most of their points are), a ball sunk into it half.
+constexpr double kOpenShare = 0.99;
 
 }  // namespace
 
@@ -68,7 +71,8 @@ constexpr double kCurvedShare = 0.9;
 // (Lambert), a glowing one too, a box's side face does not light the floor at its foot as
 // its centre does.
 // Small, so that it stands to its receivers as one of the scene's patches would.
-std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>& materials) {
+std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>& materials,
+                                   std::span<const double> open) {
   std::vector<std::vector<std::uint32_t>> patches_of, elements_of;
   for (std::uint32_t p = 0; p < mesh.patches.size(); ++p) {
     const std::uint32_t object = mesh.elements[mesh.patches[p].first].object;
@@ -87,15 +91,17 @@ std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>
       curved_area += curved(mesh, mesh.patches[p]) ? mesh.patches[p].area : 0;
     bool fits = true;
     Vec3 centre(0);
-    double area = 0;
+    double area = 0, open_area = 0;
     for (std::uint32_t i : elements_of[object]) {
       const Element& e = mesh.elements[i];
       const Material& m = materials[std::size_t(e.material)];
       fits = fits && m.specular == 0;
       centre += e.area * e.centroid;
       area += e.area;
+      open_area += e.area * (open.empty() ? 1 : open[i]);
     }
-    if (!fits || !(curved_area >= kCurvedShare * area)) continue;
+    if (!fits || !(curved_area >= kCurvedShare * area) || !(open_area >= kOpenShare * area))
+      continue;
     centre /= area;
     double radius = 0;
     for (std::uint32_t i : elements_of[object])

@@ -24,8 +24,10 @@ struct Cluster {
 // for slivers; (b) closed and convex: every edge shared by two of its elements, neither
 // with a corner in front of the other's plane; (c) no wider than the scene's natural patch
 // (a sixteenth of its diagonal); (d) diffuse: specular transfer reflects from a patch's own
-// hemi-cube.
-std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>& materials);
+// hemi-cube; (e) open to the scene but for slivers (`open`, per element its open share,
+// vertex_radiosity.h; empty: all open): a ball sunk into a floor has its centre there.
+std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>& materials,
+                                   std::span<const double> open = {});
 
 // How a member's light leaves the cluster: a direction w gets the share sum over lobes of
 // max(0, lobe . w) / pi per steradian. One lobe per 24th of the sphere of normals (a cube

@@ -25,7 +25,8 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       open_(open),
       rng_(settings.seed) {
   for (const Patch& patch : mesh.patches) curved_patch_.push_back(curved(mesh, patch));
-  clusters_ = find_clusters(mesh, materials);
+  clusters_ = find_clusters(
+      mesh, materials, open ? std::span<const double>(open->share) : std::span<const double>());
   cluster_of_.assign(mesh.patches.size(), -1);
   for (std::size_t c = 0; c < clusters_.size(); ++c)
     for (std::uint32_t p : clusters_[c].patches) cluster_of_[p] = std::int32_t(c);

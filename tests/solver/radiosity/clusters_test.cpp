@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "solver/radiosity/vertex_radiosity.h"
+#include "solver/scene/ray_scene.h"
 #include "solver/util/math.h"
 #include "solver/util/random.h"
 #include "tests/test_scenes.h"
@@ -62,6 +64,27 @@ TEST(Clusters, ASmallClosedConvexCurvedDiffuseObjectIsOneAndNothingElseIs) {
     EXPECT_NEAR(c.radius, 0.12, 1e-3);
   }
   EXPECT_NEAR(glm::length(clusters[0].centre - Vec3(0.6, 0.12, 0.6)), 0, 1e-3);
+}
+
+// A ball sunk halfway into a block has its centre in the block's top face and half of it
+// buried (vertex_radiosity.h's open shares): not a cluster, whose lower half hemi-cube would
+// look through the block's culled faces into the room; it would be one were it all open. A
+// ball resting on the floor beside the block is one.
+TEST(Clusters, ABallSunkIntoABlockIsNotOne) {
+  const double r = 0.12;
+  Object room, block;
+  room.shape = BoxShape{Vec3(2, 1.5, 2), Vec3(4, 3, 4), Vec3(0)};
+  room.flip_normals = true;
+  block.shape = BoxShape{Vec3(3, 0.25, 3), Vec3(0.5), Vec3(0)};
+  const Scene s =
+      test::scene_of({room, block, ball_object(Vec3(1, r, 1), r), ball_object(Vec3(3, 0.5, 3), r)});
+  const Mesh mesh = build_mesh(s);
+  const RayScene rays(mesh);
+  const OpenParts open = open_parts(mesh, rays);
+  EXPECT_EQ(find_clusters(mesh, s.materials).size(), 2u);
+  const std::vector<Cluster> clusters = find_clusters(mesh, s.materials, open.share);
+  ASSERT_EQ(clusters.size(), 1u);
+  EXPECT_EQ(clusters[0].object, 2u);
 }
 
 // Each member's lobes carry all its light (their lengths sum to 1), and a uniformly bright
