@@ -63,14 +63,13 @@ constexpr double kOpenShare = 0.99;
 
 }  // namespace
 
-// The limits are what a point at the centre can stand for. Convex, so no part of the object
-// lights another (what it shoots all leaves it) and every element faces away from the
-// centre (the hemi-cube there culls the object's own faces as back faces). Curved, because
-// a flat face near its neighbours is a near field the point misjudges: a uniformly bright
-// ball lights everything wholly above its horizon exactly as a point at its centre would
-// (Lambert), a glowing one too, a box's side face does not light the floor at its foot as
-// its centre does.
-// Small, so that it stands to its receivers as one of the scene's patches would.
+// What a point at the centre can stand for. Convex: no part of the object lights another,
+// so all it shoots leaves it, and every element faces away from the centre, where the
+// hemi-cube culls the object's own faces as back faces. Curved: a uniformly bright ball,
+// glowing or reflecting, lights everything wholly above its horizon exactly as a point at
+// its centre would (Lambert), where a box's side face does not light the floor at its foot
+// as its centre does. Small: it stands to its receivers as one of the scene's patches
+// would. Open: a ball sunk into a block has its centre in the block.
 std::vector<Cluster> find_clusters(const Mesh& mesh, const std::vector<Material>& materials,
                                    std::span<const double> open) {
   std::vector<std::vector<std::uint32_t>> patches_of, elements_of;
