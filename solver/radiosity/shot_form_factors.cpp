@@ -840,16 +840,20 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
         const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
         const GroupBounds& bounds = group_bounds_[std::size_t(k)];
         std::vector<VisibleElement>& out = per_group[std::size_t(k)];
-        std::optional<PatchRays::Field> field;
-        if (group.count > kFieldElements &&
-            beyond_near_points(shot, group.centroid) > bounds.radius)
-          field = rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread);
+        // The field is fitted, and each unoccluded value found, only where some of the
+        // shooter is in view: behind a hill, or facing away, nothing is owed.
+        std::optional<std::optional<PatchRays::Field>> field;
         for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
-          const double f = (field ? (*field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
-                           (open_ ? open_->share[j] : 1);
-          if (!(f > 0)) continue;
           const double visible = blended_view(std::size_t(k), j, seen);
-          if (visible > 0) out.push_back({j, f * visible});
+          if (!(visible > 0)) continue;
+          if (!field)
+            field = group.count > kFieldElements &&
+                            beyond_near_points(shot, group.centroid) > bounds.radius
+                        ? rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread)
+                        : std::nullopt;
+          const double f = (*field ? (**field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
+                           (open_ ? open_->share[j] : 1);
+          if (f > 0) out.push_back({j, f * visible});
         }
       },
       shot.stop);
