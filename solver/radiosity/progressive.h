@@ -2,7 +2,8 @@
 // the most unshot power shoots it through a hemi-cube to every element it sees, overshooting
 // by the light it is yet to receive (Feda & Purgathofer 1992). A shot takes its power from
 // the bookkeeping (residuals.h), finds its form factors (shot_form_factors.h), reflects its
-// specular queues (specular_transfer.h) and shoots into the perturbed map.
+// specular queues (specular_transfer.h) and shoots into the perturbed map. A small round
+// object's patches shoot together, as a cluster (clusters.h).
 // Memory is O(elements): form factors live for one shot only.
 #pragma once
 
