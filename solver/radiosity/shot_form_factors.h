@@ -1,8 +1,9 @@
-// How a shot finds its form factors, from the shooting patch (or a cluster's centre) to every
-// element it reaches: one interface, two methods. The hemi-cube's item buffer (Cohen & Greenberg 1985), corrected
-// where it is known to fail: in the near field by Lambert's exact values, for receivers that
-// fall between its pixels by rays; or shadow rays alone (Wallace, Elmquist & Haines 1989).
-// A new method implements ShotFormFactors and joins make_shot_form_factors().
+// How a shot finds its form factors, from the shooting patch (or a cluster's centre) to
+// every element it reaches: one interface, two methods. The hemi-cube's item buffer (Cohen &
+// Greenberg 1985), corrected where it is known to fail: in the near field by Lambert's exact
+// values, for receivers that fall between its pixels by rays; or shadow rays alone (Wallace,
+// Elmquist & Haines 1989). A new method implements ShotFormFactors and joins
+// make_shot_form_factors().
 #pragma once
 
 #include <cstddef>
