@@ -3,11 +3,13 @@
 // peak memory, the error against the path tracer, and the cost model's expected shots and
 // the measured time over its estimate (solver/cost.h); then a fit of time against
 // triangles, t ~ N^a.
-//   build/bin/bumprad-bench-scale [--family room|terrain|objects] [--sizes 10000,100000]
+//   build/bin/bumprad-bench-scale [--family room|terrain|objects|models] [--sizes 10000,100000]
 //                                 [--spp N] [--references DIR] [--width W]
 // Families: `room`, a room whose floor is a smooth, gently rolling triangle mesh with three
 // tessellated boxes standing on it, lit by two ceiling panels; `terrain`, hills under one
-// wide panel; `objects`, a room with a grid of small tessellated spheres on its floor. Each
+// wide panel; `objects`, a room with a grid of small tessellated spheres on its floor;
+// `models`, four copies of an imported model (the Wuson figure of assimp-testmodels, 3,732
+// triangles a copy) on a room's floor, each triangle cut in m x m for the size. Each
 // size runs in a child process, so that its peak resident memory is its own. References are
 // path-traced at --spp (default 1024) and kept in --references (default
 // bench-references/) as FAMILY-N-WIDTH-SPP-SEED.exr, so a second run reuses them; their own
@@ -25,9 +27,12 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "bench/truth_metrics.h"
 #include "common/args.h"
 #include "common/stopwatch.h"
+#include "protocol/model_import.h"
 #include "solver/cost.h"
 #include "solver/render/path_tracer.h"
 #include "solver/scene/mesh.h"
@@ -40,8 +45,11 @@ namespace {
 using namespace bumprad;
 
 constexpr const char* kUsage =
-    "usage: bumprad-bench-scale [--family room|terrain|objects] [--sizes N,N,...] [--spp N] "
-    "[--references DIR] [--width W]\n";
+    "usage: bumprad-bench-scale [--family room|terrain|objects|models] [--sizes N,N,...] "
+    "[--spp N] [--references DIR] [--width W]\n";
+// The `models` family's model (Debian's assimp-testmodels, which scripts/setup.sh --tests
+// installs).
+constexpr const char* kModel = "/usr/share/assimp/models/OBJ/WusonOBJ.obj";
 
 // An nu x nv grid of triangle pairs over p(u, v), u and v in [0, 1], facing dp/dv x dp/du.
 template <typename F>
@@ -94,6 +102,44 @@ TriangleMeshShape sphere_mesh(const Vec3& centre, double radius, int triangles) 
     return centre + radius * Vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
                                   std::sin(theta) * std::sin(phi));
   });
+}
+
+// Each triangle cut into m x m on the grid of its edges' m-ths, its per-position attributes
+// interpolated (normals renormalised): the same surface in m^2 times the triangles. A point
+// on an edge comes out the same from both of its triangles (the weights' terms commute), so
+// the mesh's welding joins them.
+TriangleMeshShape cut_triangles(const TriangleMeshShape& in, int m) {
+  if (m <= 1) return in;
+  TriangleMeshShape out;
+  out.smooth = in.smooth;
+  for (const auto& t : in.triangles) {
+    const std::uint32_t base = std::uint32_t(out.positions.size());
+    auto index = [&](int i, int j) {  // i steps from t[0] to t[1], j from t[0] to t[2]
+      return base + std::uint32_t(j * (m + 1) - j * (j - 1) / 2 + i);
+    };
+    for (int j = 0; j <= m; ++j)
+      for (int i = 0; i + j <= m; ++i) {
+        const double w1 = double(i) / m, w2 = double(j) / m, w0 = double(m - i - j) / m;
+        auto mix = [&](const auto& values) {
+          return w0 * values[t[0]] + w1 * values[t[1]] + w2 * values[t[2]];
+        };
+        out.positions.push_back(mix(in.positions));
+        if (!in.uvs.empty()) out.uvs.push_back(mix(in.uvs));
+        if (!in.normals.empty()) out.normals.push_back(glm::normalize(mix(in.normals)));
+        if (!in.tangents.empty()) {
+          glm::dvec4 tangent = mix(in.tangents);
+          tangent.w = in.tangents[t[0]].w;
+          out.tangents.push_back(tangent);
+        }
+      }
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i + j < m; ++i) {
+        out.triangles.push_back({index(i, j), index(i + 1, j), index(i, j + 1)});
+        if (i + j + 1 < m)
+          out.triangles.push_back({index(i + 1, j), index(i + 1, j + 1), index(i, j + 1)});
+      }
+  }
+  return out;
 }
 
 std::size_t triangle_count(const Scene& scene) {
@@ -191,7 +237,46 @@ Scene make_scene(const std::string& family, std::size_t triangles) {
       }
     return scene;
   }
-  throw std::invalid_argument("--family: \"" + family + "\" is not room, terrain or objects");
+  if (family == "models") {
+    // Four copies of an imported model on a floor, each triangle cut into m x m to reach the
+    // size: the same scene at every size, as the other families are.
+    Scene scene = room(4, 3, 4, {{1.5, 1.5, 2.5, 2.5}});
+    Object floor;
+    floor.name = "floor";
+    floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
+    scene.objects.push_back(std::move(floor));
+    ImportedModel model = import_model(kModel);
+    Vec3 lo(INFINITY), hi(-INFINITY);
+    std::size_t per_copy = 0;
+    for (const Object& o : model.objects)
+      if (const auto* m = std::get_if<TriangleMeshShape>(&o.shape)) {
+        per_copy += m->triangles.size();
+        for (const Vec3& p : m->positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+      }
+    const int copies = 4, side = 2;
+    const int cuts = std::max(1, int(std::lround(std::sqrt(n / double(copies * per_copy)))));
+    for (Object& o : model.objects)
+      if (auto* m = std::get_if<TriangleMeshShape>(&o.shape)) *m = cut_triangles(*m, cuts);
+    const double cell = 3.6 / side, scale = 0.7 * cell / std::max(hi.x - lo.x, hi.z - lo.z);
+    const int first_material = int(scene.materials.size());
+    scene.materials.insert(scene.materials.end(), model.materials.begin(), model.materials.end());
+    for (int c = 0; c < copies; ++c) {
+      ImportedModel copy = model;
+      const Vec3 at(0.2 + cell * (c % side + 0.5), 0, 0.2 + cell * (c / side + 0.5));
+      transform_model(
+          copy,
+          glm::translate(glm::dmat4(1), at) * glm::scale(glm::dmat4(1), Vec3(scale)) *
+              glm::translate(glm::dmat4(1), -Vec3((lo.x + hi.x) / 2, lo.y, (lo.z + hi.z) / 2)));
+      for (Object& o : copy.objects) {
+        o.material += first_material;
+        o.bump = -1;
+        scene.objects.push_back(std::move(o));
+      }
+    }
+    return scene;
+  }
+  throw std::invalid_argument("--family: \"" + family +
+                              "\" is not room, terrain, objects or models");
 }
 
 struct Result {
