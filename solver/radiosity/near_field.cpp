@@ -203,6 +203,32 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
     terms_.insert(terms_.end(), per_vertex[v].begin(), per_vertex[v].end());
   }
   first_[vertex_count] = std::uint32_t(terms_.size());
+
+  // Merged once here, not at every shaded point (the merge had cost as much as the form
+  // factors beside the scale bench's imported figures, whose elements' corners hold 179
+  // terms on average at 134k triangles).
+  corner_first_.assign(element_count + 1, 0);
+  for (std::uint32_t i = 0; i < element_count; ++i) {
+    const Element& e = mesh.elements[i];
+    std::array<std::span<const Term>, 4> lists;
+    for (int k = 0; k < e.vertex_count; ++k) lists[std::size_t(k)] = terms(e.v[std::size_t(k)]);
+    std::array<std::size_t, 4> next{};
+    for (;;) {
+      const Term* t = nullptr;
+      for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
+        if (next[k] < lists[k].size() && (!t || lists[k][next[k]].element < t->element))
+          t = &lists[k][next[k]];
+      if (!t) break;
+      CornerTerm merged{t->element, t->radius, 0};
+      for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
+        if (next[k] < lists[k].size() && lists[k][next[k]].element == merged.element) {
+          merged.corners = std::uint8_t(merged.corners | (1u << k));
+          ++next[k];
+        }
+      corner_terms_.push_back(merged);
+    }
+    corner_first_[i + 1] = std::uint32_t(corner_terms_.size());
+  }
 }
 
 NearFieldShading::NearFieldShading(const NearField& near, std::span<const Rgb> reflected)
@@ -219,39 +245,33 @@ Rgb NearFieldShading::correction(const Element& element, const std::array<double
   // near set filling the part 1 - S of its view and the near set's own N (both averaged
   // over its elements). At the point the near set fills S(x) and gives N(x) exactly, so
   //   B(x) - V = rho (N(x) - N) - (V - rho N) (S(x) - S) / (1 - S).
-  // The corners' lists merge, each term taken once whatever the order; as they come in the
-  // order of their elements (NearField::terms), a form factor several corners share is
-  // computed once. (A cache of 64 form factors, searched term by term, had cost more than
-  // the form factors beside the 100k room's floor, whose wall vertices hold 1,650 terms.)
+  // Each of the corners' terms is taken once for all the corners that hold it
+  // (NearField::corner_terms). (A cache of 64 form factors, searched term by term, had cost
+  // more than the form factors beside the 100k room's floor, whose wall vertices hold 1,650
+  // terms.)
   const int n = element.vertex_count;
-  std::array<std::span<const NearField::Term>, 4> terms;
+  unsigned active = 0;
   for (int k = 0; k < n; ++k)
-    if (weights[std::size_t(k)] != 0)
-      terms[std::size_t(k)] = near_.terms(element.v[std::size_t(k)]);
-  std::array<std::size_t, 4> next{};
+    if (weights[std::size_t(k)] != 0) active |= 1u << k;
   std::array<double, 4> covered{};
   std::array<Rgb, 4> light{Rgb(0), Rgb(0), Rgb(0), Rgb(0)};
-  for (;;) {
-    const NearField::Term* t = nullptr;
+  const Mesh& mesh = near_.mesh();
+  for (const NearField::CornerTerm& t :
+       near_.corner_terms(std::uint32_t(&element - mesh.elements.data()))) {
+    const unsigned corners = t.corners & active;
+    if (!corners) continue;
+    const double f = point_to_element(mesh, mesh.elements[t.element], t.radius, point, normal);
+    const Rgb l = reflected_[t.element] * (near_.open_gain(t.element) * f);
     for (std::size_t k = 0; k < std::size_t(n); ++k)
-      if (next[k] < terms[k].size() && (!t || terms[k][next[k]].element < t->element))
-        t = &terms[k][next[k]];
-    if (!t) break;
-    const std::uint32_t j = t->element;
-    const double f =
-        point_to_element(near_.mesh(), near_.mesh().elements[j], t->radius, point, normal);
-    const Rgb l = reflected_[j] * (near_.open_gain(j) * f);
-    for (std::size_t k = 0; k < std::size_t(n); ++k)
-      if (next[k] < terms[k].size() && terms[k][next[k]].element == j) {
+      if (corners & (1u << k)) {
         covered[k] += f;
         light[k] += l;
-        ++next[k];
       }
   }
   Rgb change(0);
   for (std::size_t k = 0; k < std::size_t(n); ++k) {
-    if (terms[k].empty()) continue;
     const std::uint32_t v = element.v[k];
+    if (!(active & (1u << k)) || near_.terms(v).empty()) continue;
     const double s = near_.covered(v);
     const Rgb beyond = vertex_values[v] - reflectance * near_light_[v];
     change += weights[k] *

@@ -37,6 +37,18 @@ class NearField {
   std::span<const Term> terms(std::uint32_t vertex) const {
     return {terms_.data() + first_[vertex], terms_.data() + first_[vertex + 1]};
   }
+  // An element's corners' terms merged: each of their elements once, with the corners
+  // (bit k: corner k) whose near sets hold it, in the order of their elements, so that a
+  // shaded point finds each form factor once for all its corners.
+  struct CornerTerm {
+    std::uint32_t element;
+    float radius;
+    std::uint8_t corners;
+  };
+  std::span<const CornerTerm> corner_terms(std::uint32_t element) const {
+    return {corner_terms_.data() + corner_first_[element],
+            corner_terms_.data() + corner_first_[element + 1]};
+  }
   // The sum of a vertex's mean form factors: the share of its view the near set fills.
   double covered(std::uint32_t vertex) const { return covered_[vertex]; }
   // What an element's light is multiplied by over its open part, which holds all of it
@@ -50,6 +62,8 @@ class NearField {
   const Mesh& mesh_;
   std::vector<std::uint32_t> first_;  // per vertex, into terms_; one past the end last
   std::vector<Term> terms_;
+  std::vector<std::uint32_t> corner_first_;  // per element, into corner_terms_; one past last
+  std::vector<CornerTerm> corner_terms_;
   std::vector<double> covered_;
   std::vector<float> open_gain_;  // per element, or empty: all open
 };
@@ -65,8 +79,9 @@ class NearFieldShading {
   NearFieldShading(const NearField& near, std::span<const Rgb> reflected);
 
   // The change to the interpolated reflected radiosity at `point` (smooth normal `normal`)
-  // of `element`, whose corners weigh `weights` and hold `vertex_values` (what the view pass
-  // interpolates) and whose mean diffuse reflectance is `reflectance`.
+  // of `element` (the mesh's own, by reference: its index is its place there), whose corners
+  // weigh `weights` and hold `vertex_values` (what the view pass interpolates) and whose
+  // mean diffuse reflectance is `reflectance`.
   Rgb correction(const Element& element, const std::array<double, 4>& weights, const Vec3& point,
                  const Vec3& normal, const Rgb& reflectance,
                  std::span<const Rgb> vertex_values) const;
