@@ -184,6 +184,16 @@ Scene room(double w, double h, double d, const std::vector<std::array<double, 4>
   return scene;
 }
 
+// A 4 x 3 x 4 m room under a 1 m ceiling panel, with a floor quad for things to stand on.
+Scene room_with_floor() {
+  Scene scene = room(4, 3, 4, {{1.5, 1.5, 2.5, 2.5}});
+  Object floor;
+  floor.name = "floor";
+  floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
+  scene.objects.push_back(std::move(floor));
+  return scene;
+}
+
 void add_mesh(Scene& scene, const std::string& name, TriangleMeshShape mesh) {
   Object o;
   o.name = name;
@@ -223,12 +233,8 @@ Scene make_scene(const std::string& family, std::size_t triangles) {
     return scene;
   }
   if (family == "objects") {
-    Scene scene = room(4, 3, 4, {{1.5, 1.5, 2.5, 2.5}});
     // 10 x 10 spheres on a floor quad share the triangles alike.
-    Object floor;
-    floor.name = "floor";
-    floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
-    scene.objects.push_back(std::move(floor));
+    Scene scene = room_with_floor();
     for (int i = 0; i < 10; ++i)
       for (int j = 0; j < 10; ++j) {
         const double r = 0.08 + 0.04 * ((i * 7 + j * 3) % 5) / 4.0;
@@ -240,11 +246,7 @@ Scene make_scene(const std::string& family, std::size_t triangles) {
   if (family == "models") {
     // Four copies of an imported model on a floor, each triangle cut into m x m to reach the
     // size: the same scene at every size, as the other families are.
-    Scene scene = room(4, 3, 4, {{1.5, 1.5, 2.5, 2.5}});
-    Object floor;
-    floor.name = "floor";
-    floor.shape = QuadShape{{Vec3(0, 0, 0), Vec3(0, 0, 4), Vec3(4, 0, 4), Vec3(4, 0, 0)}};
-    scene.objects.push_back(std::move(floor));
+    Scene scene = room_with_floor();
     ImportedModel model = import_model(kModel);
     Vec3 lo(INFINITY), hi(-INFINITY);
     std::size_t per_copy = 0;
