@@ -371,9 +371,9 @@ void PatchRays::weigh(const Cluster& cluster) {
 // A cluster's share in view: shadow rays to nine points on the side of its bounding sphere
 // that faces the receiver (the point toward it, and eight about that, 0.6 of the radius
 // across, or fewer where the receiver is so near that their tangent planes would turn away
-// from it). Outside the cluster, so that no ray meets the cluster itself: rays to points
-// on its own surface (four a member) graze it near its outline, and a floor beside a ball
-// saw 26 % too little of it.
+// from it). Outside the cluster, so that no ray meets the cluster itself: a point on its own
+// surface stands for a patch of it whose mean normal may face the receiver while the point
+// itself lies past the cluster's outline from there, and its ray would count as blocked.
 double PatchRays::cluster_view(const Element& e) const {
   const Vec3 from = e.centroid + e.normal * centroid_ray_offset(mesh_);
   const Vec3 d = from - cluster_centre_;
