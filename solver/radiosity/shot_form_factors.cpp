@@ -495,6 +495,7 @@ class HemicubeFormFactors : public ShotFormFactors {
   NearValue near_field(const Shot& shot, std::uint32_t element, double hemicube_form_factor) const;
   Prepared prepare(const Shot& shot) const;
   void by_rays(const Shot& shot, Prepared& out) const;
+  bool between_pixels(const Element& e, const Vec3& d) const;
   std::vector<VisibleElement> hidden_near(const Shot& shot,
                                           std::span<const std::uint32_t> near) const;
   std::vector<VisibleElement> grouped(const Shot& shot) const;
@@ -769,25 +770,31 @@ double HemicubeFormFactors::near_lambert(std::uint32_t element, bool occluded) c
   return weights > 0 ? mean / weights : -1;
 }
 
+// Whether element `e`, `d` away from the hemi-cube (from it to the centroid), facing it, is
+// expected to cover fewer than alias_pixels of its pixels: its solid angle A cos / r^2
+// against a top face pixel's (2/R)^2 of the unit hemi-cube. Such a receiver falls between
+// pixels, seen in a whole pixel or not at all (one no pixel sees got nothing), so its form
+// factor comes from rays.
+bool HemicubeFormFactors::between_pixels(const Element& e, const Vec3& d) const {
+  const double r2 = glm::dot(d, d), r_cos = -glm::dot(e.normal, d);
+  return r_cos > 0 && e.area * r_cos / (r2 * std::sqrt(r2)) <
+                          alias_pixels_ * 4.0 / (double(resolution_) * double(resolution_));
+}
+
 // The receivers within the near field (hidden_near() takes those the hemi-cube misses),
-// and the aliasing receivers with their form factors from rays: a receiver expected to
-// cover fewer than alias_pixels hemi-cube pixels (a top face pixel spans (2/R)^2 of the unit
-// hemi-cube) falls between them, seen in a whole pixel or not at all (a receiver no pixel
-// sees got nothing). Grouped elements are left to grouped().
+// and the aliasing receivers (between_pixels()) with their form factors from rays. Grouped
+// elements are left to grouped().
 void HemicubeFormFactors::by_rays(const Shot& shot, Prepared& out) const {
   const std::uint32_t pi = shot.patch;
   const Patch& patch = mesh_.patches[pi];
-  const double pixel = 4.0 / (double(resolution_) * double(resolution_));
   const double near = near_field_radius(patch);
   for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
     const Element& e = mesh_.elements[j];
-    Vec3 d = e.centroid - patch.centroid;
-    double r2 = glm::dot(d, d);
+    const Vec3 d = e.centroid - patch.centroid;
     if (e.patch == pi || grouped_[j]) continue;
-    double cos_s = glm::dot(patch.normal, d), cos_r = -glm::dot(e.normal, d);
-    if (cos_s > 0 && cos_r > 0 && e.area * cos_r / (r2 * std::sqrt(r2)) < alias_pixels_ * pixel)
+    if (glm::dot(patch.normal, d) > 0 && between_pixels(e, d))
       out.aliased.push_back({j, 0});
-    else if (std::sqrt(r2) < near)
+    else if (glm::length(d) < near)
       out.near.push_back(j);
   }
   parallel_for(
@@ -1032,14 +1039,12 @@ HemicubeFormFactors::ClusterRays HemicubeFormFactors::cluster_rays(
   const std::size_t members = lobes.size();
   ClusterRays out{std::vector<std::vector<VisibleElement>>(members),
                   std::vector<std::vector<VisibleElement>>(members)};
-  const double pixel = 4.0 / (double(resolution_) * double(resolution_));
   std::vector<std::uint32_t> aliased;
   for (std::uint32_t j = 0; j < mesh_.elements.size(); ++j) {
     const Element& e = mesh_.elements[j];
-    if (e.object == cluster.object || grouped_[j]) continue;
-    const Vec3 d = e.centroid - cluster.centre;
-    const double r = glm::length(d), cos_r = -glm::dot(e.normal, d) / r;
-    if (cos_r > 0 && e.area * cos_r / (r * r * r) < alias_pixels_ * pixel) aliased.push_back(j);
+    if (e.object != cluster.object && !grouped_[j] &&
+        between_pixels(e, e.centroid - cluster.centre))
+      aliased.push_back(j);
   }
   std::vector<double> view(aliased.size());
   parallel_for(
