@@ -14,6 +14,8 @@
 #include <stop_token>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "solver/scene/mesh.h"
 #include "solver/scene/ray_scene.h"
 
@@ -38,8 +40,8 @@ class NearField {
     return {terms_.data() + first_[vertex], terms_.data() + first_[vertex + 1]};
   }
   // An element's corners' terms merged: each of their elements once, with the corners
-  // (bit k: corner k) whose near sets hold it, in the order of their elements, so that a
-  // shaded point finds each form factor once for all its corners.
+  // (bit k: corner k) whose near sets hold it, so that a shaded point finds each form
+  // factor once for all its corners; in the order of term_nodes' trees.
   struct CornerTerm {
     std::uint32_t element;
     float radius;
@@ -49,6 +51,27 @@ class NearField {
     return {corner_terms_.data() + corner_first_[element],
             corner_terms_.data() + corner_first_[element + 1]};
   }
+  // An element's corner terms as trees, one for each set of corners, so that a shaded point
+  // far from a node's terms (in the node's radii) takes them as one small patch: beside a
+  // finely cut model, a coarse floor element's corners hold thousands of its triangles.
+  // Nodes are laid out depth first; a node's children follow it, and `skip` is the node
+  // after its subtree (a leaf's: the next one).
+  struct TermNode {
+    Vec3 centre;            // its terms' elements' area-weighted centroid
+    float radius;           // of a sphere about `centre` that holds its terms' elements
+    glm::vec3 vector_area;  // sum of A_j n_j
+    float cone_cos;         // of the widest angle between an element's normal and vector_area
+    float cone_sin;
+    std::uint32_t first;  // its terms: corner_terms(element)[first, first + count)
+    std::uint32_t count;
+    std::uint32_t skip;    // index in term_nodes(element)
+    std::uint8_t corners;  // the corners all its terms belong to
+  };
+  std::span<const TermNode> term_nodes(std::uint32_t element) const {
+    return {nodes_.data() + node_first_[element], nodes_.data() + node_first_[element + 1]};
+  }
+  // The index in all elements' nodes, laid end to end, of term_nodes(element)'s first.
+  std::uint32_t first_node(std::uint32_t element) const { return node_first_[element]; }
   // The sum of a vertex's mean form factors: the share of its view the near set fills.
   double covered(std::uint32_t vertex) const { return covered_[vertex]; }
   // What an element's light is multiplied by over its open part, which holds all of it
@@ -64,6 +87,8 @@ class NearField {
   std::vector<Term> terms_;
   std::vector<std::uint32_t> corner_first_;  // per element, into corner_terms_; one past last
   std::vector<CornerTerm> corner_terms_;
+  std::vector<std::uint32_t> node_first_;  // per element, into nodes_; one past last
+  std::vector<TermNode> nodes_;
   std::vector<double> covered_;
   std::vector<float> open_gain_;  // per element, or empty: all open
 };
@@ -90,6 +115,9 @@ class NearFieldShading {
   const NearField& near_;
   std::span<const Rgb> reflected_;
   std::vector<Rgb> near_light_;  // per vertex: sum of B_j times its mean form factor
+  // Per term node (NearField::first_node), per channel: sum of A_j B_j n_j (B_j with its
+  // open gain).
+  std::vector<std::array<glm::vec3, 3>> node_light_;
 };
 
 }  // namespace bumprad
