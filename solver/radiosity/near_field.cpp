@@ -69,22 +69,22 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
   }
   centre = area > 0 ? centre / area : (lo + hi) / 2.0;
   const double length = glm::length(vector_area);
-  double radius = 0, cone = length > 0 ? 0 : std::numbers::pi;
+  double radius = 0, cone_cos = length > 0 ? 1 : -1;  // of the widest normal off vector_area
   for (const NearField::CornerTerm& t : own) {
     const Element& e = mesh.elements[t.element];
     radius = std::max(radius, glm::length(e.centroid - centre) + double(t.radius));
-    if (length > 0)
-      cone = std::max(cone,
-                      std::acos(std::clamp(glm::dot(e.normal, vector_area) / length, -1.0, 1.0)));
+    if (length > 0) cone_cos = std::min(cone_cos, glm::dot(e.normal, vector_area) / length);
   }
-  nodes.push_back({centre, float(radius), glm::vec3(vector_area), float(std::cos(cone)),
-                   float(std::sin(cone)), first, count, 0, own.front().corners});
+  cone_cos = std::clamp(cone_cos, -1.0, 1.0);
+  nodes.push_back({centre, float(radius), glm::vec3(vector_area), float(cone_cos),
+                   float(std::sqrt(1 - cone_cos * cone_cos)), first, count, 0,
+                   own.front().corners});
   const std::size_t self = nodes.size() - 1;
   if (count > kLeafTerms) {
     // Halves at the median along the widest axis: of their normals while those spread
     // wider than kNarrowCone (a thin part's two sides lie close together but face apart),
     // then of their centroids.
-    const bool by_normal = cone > kNarrowCone;
+    const bool by_normal = cone_cos < std::cos(kNarrowCone);
     const Vec3 extent = by_normal ? normal_hi - normal_lo : hi - lo;
     const int axis =
         extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
@@ -325,9 +325,18 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
       stop);
   corner_first_.assign(element_count + 1, 0);
   node_first_.assign(element_count + 1, 0);
+  std::size_t term_count = 0, node_count = 0;
+  for (std::size_t i = 0; i < element_count; ++i) {
+    term_count += merged[i].size();
+    node_count += trees[i].size();
+  }
+  corner_terms_.reserve(term_count);
+  nodes_.reserve(node_count);
   for (std::size_t i = 0; i < element_count; ++i) {
     corner_terms_.insert(corner_terms_.end(), merged[i].begin(), merged[i].end());
     nodes_.insert(nodes_.end(), trees[i].begin(), trees[i].end());
+    std::vector<CornerTerm>().swap(merged[i]);  // one copy at a time
+    std::vector<TermNode>().swap(trees[i]);
     corner_first_[i + 1] = std::uint32_t(corner_terms_.size());
     node_first_[i + 1] = std::uint32_t(nodes_.size());
   }
