@@ -126,9 +126,7 @@ bool ProgressiveSolver::shoot(std::stop_token stop) {
   double texture_s = 0;
   if (map_) {
     auto t1 = Clock::now();
-    // With exact direct light the map holds the indirect light only.
-    map_->shoot(hemicube_, frame, shot.origin,
-                exact ? shooting.power - shooting.emission : shooting.power, visible, stop);
+    map_->shoot(hemicube_, frame, shot.origin, mapped_power(shooting), visible, stop);
     texture_s = seconds_since(t1);
   }
   if (stop.stop_requested()) return false;
@@ -174,16 +172,18 @@ bool ProgressiveSolver::shoot(const Cluster& cluster, std::stop_token stop) {
   double texture_s = 0;
   if (map_) {
     auto t1 = Clock::now();
-    const bool exact = settings_.direct_light == DirectLight::Exact;
     for (std::size_t m = 0; m < members.size(); ++m)
-      map_->shoot(hemicube_, frame, cluster.centre,
-                  exact ? members[m].power - members[m].emission : members[m].power, visible[m],
-                  stop);
+      map_->shoot(hemicube_, frame, cluster.centre, mapped_power(members[m]), visible[m], stop);
     texture_s = seconds_since(t1);
   }
   if (stop.stop_requested()) return false;
   time_shot(t0, before, texture_s, 0);
   return true;
+}
+
+Rgb ProgressiveSolver::mapped_power(const Shooting& shooting) const {
+  return settings_.direct_light == DirectLight::Exact ? shooting.power - shooting.emission
+                                                      : shooting.power;
 }
 
 void ProgressiveSolver::time_shot(Clock::time_point t0, const ShotTiming& before, double texture_s,

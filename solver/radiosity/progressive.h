@@ -91,6 +91,9 @@ class ProgressiveSolver {
   // The cluster that shoots next instead of the patch `next`, if any.
   const Cluster* cluster_shooting(std::uint32_t next) const;
   bool shoot(const Cluster& cluster, std::stop_token stop);
+  // The power a shot gives the perturbed map: with exact direct light the map holds the
+  // indirect light only, so an emitter's own emission is left out.
+  Rgb mapped_power(const Shooting& shooting) const;
   // Books a shot's time, from t0 and the hemi-cube's totals before it.
   void time_shot(Clock::time_point t0, const ShotTiming& hemicube_before, double texture_s,
                  double specular_s);

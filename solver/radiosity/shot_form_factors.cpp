@@ -189,6 +189,9 @@ class PatchRays {
  private:
   double shooting_area(std::uint32_t shooter, const Element& receiver,
                        std::span<const Vec3> corners) const;
+  // visible_share() of a weighed cluster (see the definition).
+  double cluster_view(const Element& e) const;
+
   const Mesh& mesh_;
   const RayScene& rays_;
   const OpenParts* open_;  // or null: all open
@@ -196,7 +199,6 @@ class PatchRays {
   std::vector<double> shot_area_;
   std::vector<double> shot_radius_;  // per element of the shooter: element_radius()
   std::vector<AreaSample> shot_samples_, lookout_samples_;
-  double cluster_view(const Element& e) const;
   Vec3 cluster_centre_{0};
   double cluster_radius_ = 0;  // 0: a patch is weighed
 };
@@ -849,16 +851,16 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
         std::vector<VisibleElement>& out = per_group[std::size_t(k)];
         // The field is fitted, and each unoccluded value found, only where some of the
         // shooter is in view: behind a hill, or facing away, nothing is owed.
-        std::optional<std::optional<PatchRays::Field>> field;
+        std::optional<PatchRays::Field> field;
+        bool tried = false;  // the field, once some element sees the shooter
         for (std::uint32_t j = group.first; j < group.first + group.count; ++j) {
           const double visible = blended_view(std::size_t(k), j, seen);
           if (!(visible > 0)) continue;
-          if (!field)
-            field = group.count > kFieldElements &&
-                            beyond_near_points(shot, group.centroid) > bounds.radius
-                        ? rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread)
-                        : std::nullopt;
-          const double f = (*field ? (**field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
+          if (!tried && group.count > kFieldElements &&
+              beyond_near_points(shot, group.centroid) > bounds.radius)
+            field = rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread);
+          tried = true;
+          const double f = (field ? (*field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
                            (open_ ? open_->share[j] : 1);
           if (f > 0) out.push_back({j, f * visible});
         }
