@@ -5,7 +5,7 @@
 // the elements of other surfaces within one and a half element sizes (its near set) are taken out
 // of the interpolation and put back exactly at each shaded point: point-to-polygon form factors
 // (Lambert) times their radiosity, in place of the rest of the scene's light in the solid
-// angle they cover.
+// angle they cover; far from the point (in their own sizes), a tree node of them at a time.
 #pragma once
 
 #include <array>
