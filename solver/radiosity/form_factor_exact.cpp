@@ -122,8 +122,7 @@ double point_to_element(const Mesh& mesh, const Element& e, double radius, const
     std::array<Vec3, 4> storage;
     return point_to_polygon(point, normal, element_corners(mesh, e, storage));
   }
-  const double cos_r = glm::dot(normal, d), cos_s = -glm::dot(e.normal, d);
-  return cos_r > 0 && cos_s > 0 ? e.area * cos_r * cos_s / (std::numbers::pi * r2 * r2) : 0;
+  return small_patch(e.area * e.normal, d, normal);
 }
 
 double element_radius(const Mesh& mesh, const Element& e) {

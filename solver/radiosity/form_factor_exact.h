@@ -2,7 +2,10 @@
 // analytic values a solver can fall back on where the hemi-cube fails (near field).
 #pragma once
 
+#include <numbers>
 #include <span>
+
+#include <glm/geometric.hpp>
 
 #include "solver/scene/mesh.h"
 #include "solver/scene/scene.h"
@@ -29,6 +32,13 @@ double area_in_front(const Vec3& point, const Vec3& normal, std::span<const Vec3
 constexpr double kSmallPatchRadii = 8;
 double point_to_element(const Mesh& mesh, const Element& e, double radius, const Vec3& point,
                         const Vec3& normal);
+// The small patch's A cos cos / (pi r^2), one-sided, for a patch of vector area A n whose
+// centroid lies `d` from a point of unit `normal`.
+inline double small_patch(const Vec3& vector_area, const Vec3& d, const Vec3& normal) {
+  const double r2 = glm::dot(d, d), cos_r = glm::dot(normal, d),
+               area_cos_s = -glm::dot(vector_area, d);
+  return cos_r > 0 && area_cos_s > 0 ? area_cos_s * cos_r / (std::numbers::pi * r2 * r2) : 0;
+}
 
 // The largest distance from an element's centroid to its corners.
 double element_radius(const Mesh& mesh, const Element& e);

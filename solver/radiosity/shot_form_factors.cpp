@@ -232,8 +232,7 @@ double PatchRays::unoccluded(std::uint32_t patch, std::uint32_t element) const {
       const Vec3 d = shooter.centroid - e.centroid;
       const double r2 = glm::dot(d, d), reach = kSmallPatchRadii * shot_radius_[k];
       if (r2 > reach * reach && !(open_ && open_->partly_open(s))) {
-        const double cos_r = glm::dot(e.normal, d), cos_s = -glm::dot(shooter.normal, d);
-        if (cos_r > 0 && cos_s > 0) f += shot_area_[k] * cos_r * cos_s / (kPi * r2 * r2);
+        f += small_patch(shot_area_[k] * shooter.normal, d, e.normal);
         continue;
       }
       const std::span<const Vec3> corners = element_corners(mesh_, shooter, storage);
