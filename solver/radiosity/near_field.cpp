@@ -52,7 +52,7 @@ constexpr std::uint32_t kLeafTerms = 8;
 // The node over terms[first, first + count), then its subtree's. The terms are reordered
 // in place.
 void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uint32_t first,
-              std::uint32_t count, std::vector<NearField::TermNode>& nodes) {
+              std::uint32_t count, std::span<NearField::TermNode> nodes, std::uint32_t& next) {
   const std::span<NearField::CornerTerm> own = terms.subspan(first, count);
   double area = 0;
   Vec3 centre(0), vector_area(0), lo(std::numeric_limits<double>::infinity()), hi(-lo),
@@ -76,10 +76,16 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
     if (length > 0) cone_cos = std::min(cone_cos, glm::dot(e.normal, vector_area) / length);
   }
   cone_cos = std::clamp(cone_cos, -1.0, 1.0);
-  nodes.push_back({centre, float(radius), glm::vec3(vector_area), float(cone_cos),
-                   float(std::sqrt(1 - cone_cos * cone_cos)), first, count, 0,
-                   own.front().corners});
-  const std::size_t self = nodes.size() - 1;
+  const std::uint32_t self = next++;
+  nodes[self] = {centre,
+                 float(radius),
+                 glm::vec3(vector_area),
+                 float(cone_cos),
+                 float(std::sqrt(1 - cone_cos * cone_cos)),
+                 first,
+                 count,
+                 0,
+                 own.front().corners};
   if (count > kLeafTerms) {
     // Halves at the median along the widest axis: of their normals while those spread
     // wider than kNarrowCone (a thin part's two sides lie close together but face apart),
@@ -97,27 +103,32 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
                      [&](const NearField::CornerTerm& a, const NearField::CornerTerm& b) {
                        return key(a) < key(b);
                      });
-    add_node(mesh, terms, first, half, nodes);
-    add_node(mesh, terms, first + half, count - half, nodes);
+    add_node(mesh, terms, first, half, nodes, next);
+    add_node(mesh, terms, first + half, count - half, nodes, next);
   }
-  nodes[self].skip = std::uint32_t(nodes.size());
+  nodes[self].skip = next;
 }
 
-// An element's corner terms ordered into trees, one for each set of corners.
-std::vector<NearField::TermNode> term_trees(const Mesh& mesh,
-                                            std::vector<NearField::CornerTerm>& terms) {
+// The nodes add_node() makes over `count` terms.
+std::uint32_t tree_nodes(std::uint32_t count) {
+  return count > kLeafTerms ? 1 + tree_nodes(count / 2) + tree_nodes(count - count / 2) : 1;
+}
+
+// An element's corner terms ordered into trees, one for each set of corners, into `nodes`
+// (as many as tree_nodes() counts over each set's terms).
+void term_trees(const Mesh& mesh, std::span<NearField::CornerTerm> terms,
+                std::span<NearField::TermNode> nodes) {
   std::stable_sort(terms.begin(), terms.end(),
                    [](const NearField::CornerTerm& a, const NearField::CornerTerm& b) {
                      return a.corners < b.corners;
                    });
-  std::vector<NearField::TermNode> nodes;
+  std::uint32_t next = 0;
   for (std::size_t first = 0; first < terms.size();) {
     std::size_t end = first + 1;
     while (end < terms.size() && terms[end].corners == terms[first].corners) ++end;
-    add_node(mesh, terms, std::uint32_t(first), std::uint32_t(end - first), nodes);
+    add_node(mesh, terms, std::uint32_t(first), std::uint32_t(end - first), nodes, next);
     first = end;
   }
-  return nodes;
 }
 
 // Elements by the cells of a uniform grid their bounding boxes overlap.
@@ -295,50 +306,67 @@ NearField::NearField(const Mesh& mesh, const RayScene& rays, std::span<const dou
 
   // Merged once here, not at every shaded point (the merge had cost as much as the form
   // factors beside the scale bench's imported figures, whose elements' corners hold 179
-  // terms on average at 134k triangles), then ordered into trees (term_nodes).
-  std::vector<std::vector<CornerTerm>> merged(element_count);
-  std::vector<std::vector<TermNode>> trees(element_count);
+  // terms on average at 134k triangles), then ordered into trees (term_nodes). Twice: first
+  // counted, then written in place, so that no element's terms are held twice (the objects
+  // family at 1M triangles: the copies had been a fifth of its peak memory).
+  auto merge = [&](std::uint32_t element, auto&& take) {
+    const Element& e = mesh.elements[element];
+    std::array<std::span<const Term>, 4> lists;
+    for (int k = 0; k < e.vertex_count; ++k) lists[std::size_t(k)] = terms(e.v[std::size_t(k)]);
+    std::array<std::size_t, 4> next{};
+    for (;;) {
+      const Term* t = nullptr;
+      for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
+        if (next[k] < lists[k].size() && (!t || lists[k][next[k]].element < t->element))
+          t = &lists[k][next[k]];
+      if (!t) break;
+      CornerTerm term{t->element, t->radius, 0};
+      for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
+        if (next[k] < lists[k].size() && lists[k][next[k]].element == term.element) {
+          term.corners = std::uint8_t(term.corners | (1u << k));
+          ++next[k];
+        }
+      take(term);
+    }
+  };
+  corner_first_.assign(element_count + 1, 0);
+  node_first_.assign(element_count + 1, 0);
   parallel_for(
       int(element_count),
       [&](int index) {
-        const Element& e = mesh.elements[std::size_t(index)];
-        std::array<std::span<const Term>, 4> lists;
-        for (int k = 0; k < e.vertex_count; ++k) lists[std::size_t(k)] = terms(e.v[std::size_t(k)]);
-        std::array<std::size_t, 4> next{};
-        std::vector<CornerTerm>& out = merged[std::size_t(index)];
-        for (;;) {
-          const Term* t = nullptr;
-          for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
-            if (next[k] < lists[k].size() && (!t || lists[k][next[k]].element < t->element))
-              t = &lists[k][next[k]];
-          if (!t) break;
-          CornerTerm term{t->element, t->radius, 0};
-          for (std::size_t k = 0; k < std::size_t(e.vertex_count); ++k)
-            if (next[k] < lists[k].size() && lists[k][next[k]].element == term.element) {
-              term.corners = std::uint8_t(term.corners | (1u << k));
-              ++next[k];
-            }
-          out.push_back(term);
-        }
-        trees[std::size_t(index)] = term_trees(mesh, out);
+        std::array<std::uint32_t, 16> by_corners{};
+        merge(std::uint32_t(index), [&](const CornerTerm& t) { ++by_corners[t.corners]; });
+        std::uint32_t count = 0, nodes = 0;
+        for (std::uint32_t n : by_corners)
+          if (n > 0) count += n, nodes += tree_nodes(n);
+        corner_first_[std::size_t(index) + 1] = count;
+        node_first_[std::size_t(index) + 1] = nodes;
       },
       stop);
-  corner_first_.assign(element_count + 1, 0);
-  node_first_.assign(element_count + 1, 0);
-  std::size_t term_count = 0, node_count = 0;
   for (std::size_t i = 0; i < element_count; ++i) {
-    term_count += merged[i].size();
-    node_count += trees[i].size();
+    corner_first_[i + 1] += corner_first_[i];
+    node_first_[i + 1] += node_first_[i];
   }
-  corner_terms_.reserve(term_count);
-  nodes_.reserve(node_count);
-  for (std::size_t i = 0; i < element_count; ++i) {
-    corner_terms_.insert(corner_terms_.end(), merged[i].begin(), merged[i].end());
-    nodes_.insert(nodes_.end(), trees[i].begin(), trees[i].end());
-    std::vector<CornerTerm>().swap(merged[i]);  // one copy at a time
-    std::vector<TermNode>().swap(trees[i]);
-    corner_first_[i + 1] = std::uint32_t(corner_terms_.size());
-    node_first_[i + 1] = std::uint32_t(nodes_.size());
+  corner_terms_.resize(corner_first_.back());
+  nodes_.resize(node_first_.back());
+  parallel_for(
+      int(element_count),
+      [&](int index) {
+        const std::uint32_t element = std::uint32_t(index);
+        CornerTerm* out = corner_terms_.data() + corner_first_[element];
+        merge(element, [&](const CornerTerm& t) { *out++ = t; });
+        term_trees(
+            mesh,
+            {corner_terms_.data() + corner_first_[element],
+             corner_terms_.data() + corner_first_[element + 1]},
+            {nodes_.data() + node_first_[element], nodes_.data() + node_first_[element + 1]});
+      },
+      stop);
+  if (stop.stop_requested()) {  // some elements' terms unwritten: none kept
+    corner_first_.assign(element_count + 1, 0);
+    node_first_.assign(element_count + 1, 0);
+    corner_terms_.clear();
+    nodes_.clear();
   }
 }
 
