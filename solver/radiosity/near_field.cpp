@@ -49,6 +49,12 @@ constexpr double kNarrowCone = 1;  // radians
 // Nodes of more terms are split in two (4 and 16 were slower than 8).
 constexpr std::uint32_t kLeafTerms = 8;
 
+// How many of a node's `count` terms its first child takes; none: it is a leaf. add_node()
+// builds by it and tree_nodes() counts by it, so the two cannot part.
+std::uint32_t first_half(std::uint32_t count) {
+  return count > kLeafTerms ? count / 2 : 0;
+}
+
 // The node over terms[first, first + count), then its subtree's. The terms are reordered
 // in place.
 void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uint32_t first,
@@ -86,7 +92,7 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
                  count,
                  0,
                  own.front().corners};
-  if (count > kLeafTerms) {
+  if (const std::uint32_t half = first_half(count)) {
     // Halves at the median along the widest axis: of their normals while those spread
     // wider than kNarrowCone (a thin part's two sides lie close together but face apart),
     // then of their centroids.
@@ -98,7 +104,6 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
       const Element& e = mesh.elements[t.element];
       return by_normal ? e.normal[axis] : e.centroid[axis];
     };
-    const std::uint32_t half = count / 2;
     std::nth_element(own.begin(), own.begin() + half, own.end(),
                      [&](const NearField::CornerTerm& a, const NearField::CornerTerm& b) {
                        return key(a) < key(b);
@@ -111,7 +116,8 @@ void add_node(const Mesh& mesh, std::span<NearField::CornerTerm> terms, std::uin
 
 // The nodes add_node() makes over `count` terms.
 std::uint32_t tree_nodes(std::uint32_t count) {
-  return count > kLeafTerms ? 1 + tree_nodes(count / 2) + tree_nodes(count - count / 2) : 1;
+  const std::uint32_t half = first_half(count);
+  return half ? 1 + tree_nodes(half) + tree_nodes(count - half) : 1;
 }
 
 // An element's corner terms ordered into trees, one for each set of corners, into `nodes`
