@@ -25,6 +25,8 @@ struct Face {
   double ey_min;
 };
 constexpr int kFaces = 5;
+// A group's proxy stands for it where the proxy's error is under this share of a pixel.
+constexpr double kProxyPixels = 0.25;
 const Face kFaceTable[kFaces] = {
     {{0, 0, 1}, {0, 1, 0}, -1},  //
     {{1, 0, 0}, {0, 0, 1}, 0},   //
@@ -106,26 +108,18 @@ Hemicube::Hemicube(const Mesh& mesh, int resolution)
       context_(deltas_.width(), deltas_.height()),
       sums_(mesh.elements.size(), 0.0) {
   // Unshared corners so each element carries its own id colour; RGBA8 holds id + 1 exactly.
-  std::vector<std::uint32_t> colors;
   corners_.reserve(mesh.elements.size() * 4);
-  colors.reserve(mesh.elements.size() * 4);
+  ids_.reserve(mesh.elements.size() * 4);
   for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
     const Element& el = mesh.elements[e];
     for (int i = 0; i < 4; ++i) {
       corners_.push_back(glm::vec3(mesh.vertices[el.v[std::min(i, el.vertex_count - 1)]].position));
-      colors.push_back(std::uint32_t(e + 1));
+      ids_.push_back(std::uint32_t(e + 1));
     }
   }
   glGenBuffers(1, &vertex_buffer_);
-  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(corners_.size() * sizeof(glm::vec3)), corners_.data(),
-               GL_STATIC_DRAW);
-  glVertexPointer(3, GL_FLOAT, 0, nullptr);
   glGenBuffers(1, &color_buffer_);
-  glBindBuffer(GL_ARRAY_BUFFER, color_buffer_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colors.size() * sizeof(std::uint32_t)), colors.data(),
-               GL_STATIC_DRAW);
-  glColorPointer(4, GL_UNSIGNED_BYTE, 0, nullptr);
+  upload();
   glEnableClientState(GL_VERTEX_ARRAY);
   glEnableClientState(GL_COLOR_ARRAY);
   glDisable(GL_DITHER);
@@ -135,6 +129,42 @@ Hemicube::Hemicube(const Mesh& mesh, int resolution)
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_SCISSOR_TEST);
   glClearColor(0, 0, 0, 0);
+}
+
+void Hemicube::upload() {
+  context_.make_current();
+  glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(corners_.size() * sizeof(glm::vec3)), corners_.data(),
+               GL_STATIC_DRAW);
+  glVertexPointer(3, GL_FLOAT, 0, nullptr);
+  glBindBuffer(GL_ARRAY_BUFFER, color_buffer_);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(ids_.size() * sizeof(std::uint32_t)), ids_.data(),
+               GL_STATIC_DRAW);
+  glColorPointer(4, GL_UNSIGNED_BYTE, 0, nullptr);
+}
+
+void Hemicube::use_proxies(GroupProxies proxies) {
+  proxies_ = std::move(proxies);
+  corners_.resize(mesh_.elements.size() * 4);
+  ids_.resize(mesh_.elements.size() * 4);
+  level_base_.clear();
+  for (const ProxyLevel& level : proxies_.levels)
+    for (const auto* list : {&level.triangles, &level.skirts}) {
+      level_base_.push_back(std::uint32_t(corners_.size()));
+      for (const ProxyTriangle& t : *list)
+        for (int i = 0; i < 4; ++i) {
+          corners_.push_back(t.corners[std::size_t(std::min(i, 2))]);
+          ids_.push_back(t.element + 1);
+        }
+    }
+  upload();
+}
+
+void Hemicube::watch(std::vector<bool> elements) {
+  watched_ = std::move(elements);
+  whole_.assign(mesh_.groups.size(), false);
+  for (std::size_t e = 0; e < watched_.size(); ++e)
+    if (watched_[e]) whole_[mesh_.elements[e].group] = true;
 }
 
 void Hemicube::render(const Vec3& origin, const Frame& frame,
@@ -175,24 +205,61 @@ void Hemicube::render(const Vec3& origin, const Frame& frame,
   }
   auto& face_indices = face_indices_;
   for (auto& v : face_indices) v.clear();
-  for (std::size_t e = 0; e < mesh_.elements.size(); ++e) {
-    const Element& el = mesh_.elements[e];
-    if (skip_patch && el.patch == *skip_patch) continue;
-    if (glm::dot(el.normal, origin - el.centroid) <= 0) continue;
-    const glm::vec3* c = &corners_[4 * e];
+  // `corners` (4, a triangle's last repeated) at `base` in the buffers.
+  auto draw = [&](std::uint32_t base, const Vec3& normal, const Vec3& centroid, bool quad) {
+    if (glm::dot(normal, origin - centroid) <= 0) return;
+    const glm::vec3* c = &corners_[base];
     const glm::vec3 rel[4] = {c[0] - o, c[1] - o, c[2] - o, c[3] - o};
     auto outside = [&](const glm::vec3& n) {
       return glm::dot(rel[0], n) < 0 && glm::dot(rel[1], n) < 0 && glm::dot(rel[2], n) < 0 &&
              glm::dot(rel[3], n) < 0;
     };
-    std::uint32_t base = std::uint32_t(4 * e);
     for (int f = 0; f < kFaces; ++f) {
       const auto& p = planes[f];
       if (outside(p[0]) || outside(p[1]) || outside(p[2]) || outside(p[3])) continue;
       auto& idx = face_indices[f];
       idx.insert(idx.end(), {base, base + 1, base + 2});
-      if (el.vertex_count == 4) idx.insert(idx.end(), {base, base + 2, base + 3});
+      if (quad) idx.insert(idx.end(), {base, base + 2, base + 3});
     }
+  };
+  // A group far enough off for a proxy's error to stay under kProxyPixels of a pixel (2 / r
+  // wide at the top face's centre, the widest) is drawn by the coarsest such proxy, with
+  // its skirts where a neighbour is drawn another way.
+  level_.assign(proxies_.spheres.size(), -1);
+  const int levels = int(proxies_.levels.size());
+  for (std::size_t g = 0; g < level_.size(); ++g) {
+    if ((!whole_.empty() && whole_[g]) ||
+        (skip_patch && mesh_.elements[mesh_.groups[g].first].patch == *skip_patch))
+      continue;
+    const GroupProxies::Sphere& sphere = proxies_.spheres[g];
+    const double reach =
+        kProxyPixels * 2.0 / r * (glm::length(sphere.centre - origin) - sphere.radius);
+    for (int l = levels - 1; l >= 0 && level_[g] < 0; --l) {
+      const ProxyLevel::Group& proxy = proxies_.levels[std::size_t(l)].groups[g];
+      if (proxy.count > 0 && proxy.error <= reach) level_[g] = std::int8_t(l);
+    }
+  }
+  for (std::size_t g = 0; g < level_.size(); ++g) {
+    if (level_[g] < 0) continue;
+    const std::size_t l = std::size_t(level_[g]);
+    const ProxyLevel& level = proxies_.levels[l];
+    const ProxyLevel::Group& proxy = level.groups[g];
+    for (std::uint32_t t = proxy.first; t < proxy.first + proxy.count; ++t)
+      draw(level_base_[2 * l] + 4 * t, Vec3(level.triangles[t].normal),
+           Vec3(level.triangles[t].centroid), false);
+    for (std::uint32_t t = proxy.skirt_first; t < proxy.skirt_first + proxy.skirt_count; ++t)
+      if (level_[level.skirt_neighbour[t]] != level_[g])
+        draw(level_base_[2 * l + 1] + 4 * t, Vec3(level.skirts[t].normal),
+             Vec3(level.skirts[t].centroid), false);
+  }
+  for (std::size_t e = 0; e < mesh_.elements.size(); ++e) {
+    const Element& el = mesh_.elements[e];
+    if (!level_.empty() && level_[el.group] >= 0) {  // its group's elements lie together
+      e = mesh_.groups[el.group].first + mesh_.groups[el.group].count - 1;
+      continue;
+    }
+    if (skip_patch && el.patch == *skip_patch) continue;
+    draw(std::uint32_t(4 * e), el.normal, el.centroid, el.vertex_count == 4);
   }
 
   for (int f = 0; f < kFaces; ++f) {

@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "solver/radiosity/group_proxies.h"
 #include "solver/radiosity/visible_element.h"
 #include "solver/scene/mesh.h"
 #include "solver/util/frame.h"
@@ -69,9 +70,15 @@ class Hemicube {
   // with that intensity sends through it. Lists no watched pixels.
   std::vector<VisibleElement>& form_factors(std::span<const Vec3> lobes);
 
+  // From now on, draws a group far off by a proxy (group_proxies.h): the coarsest whose error
+  // is under a quarter of a pixel as far off as the group lies. Its pixels then show ids of
+  // its elements near the right ones, not the right ones: for callers that take a group's
+  // light from its whole (shots), not from each pixel's element (a gather).
+  void use_proxies(GroupProxies proxies);
   // Elements whose pixels form_factors() should also list (e.g. the bumpy ones the
-  // perturbed map shoots to), so that nobody scans the item buffer a second time.
-  void watch(std::vector<bool> elements) { watched_ = std::move(elements); }
+  // perturbed map shoots to), so that nobody scans the item buffer a second time. Their
+  // groups are drawn as they are.
+  void watch(std::vector<bool> elements);
   // The pixels of watched elements seen in the last form_factors() call.
   const std::vector<std::uint32_t>& watched_pixels() const { return watched_pixels_; }
 
@@ -88,7 +95,15 @@ class Hemicube {
   DeltaFormFactors deltas_;
   GlContext context_;
   unsigned vertex_buffer_ = 0, color_buffer_ = 0;
-  std::vector<glm::vec3> corners_;  // 4 per element (triangles repeat the last), float
+  void upload();
+
+  std::vector<glm::vec3> corners_;  // 4 per element (triangles repeat the last), float,
+  std::vector<std::uint32_t> ids_;  // then 4 per proxy triangle; the id + 1 of each
+  GroupProxies proxies_;
+  std::vector<std::uint32_t> level_base_;  // per level, the first corner of its triangles,
+                                           // then of its skirts
+  std::vector<bool> whole_;                // per group: drawn as it is (a watched element in it)
+  std::vector<std::int8_t> level_;         // per group: the proxy's level in the last render, or -1
   std::array<std::vector<std::uint32_t>, 5> face_indices_;  // per face, reused each render
   std::vector<double> sums_;
   std::vector<VisibleElement> visible_;

@@ -25,6 +25,15 @@ ProgressiveSolver::ProgressiveSolver(const Mesh& mesh, const std::vector<Materia
       open_(open),
       rng_(settings.seed) {
   for (const Patch& patch : mesh.patches) curved_patch_.push_back(curved(mesh, patch));
+  // Far groups of a model's small triangles are drawn coarse in the shots' item buffers:
+  // their own light comes from rays (shot_form_factors.cpp), their pixels only hide what
+  // lies behind them. Not a specular group's: specular transfer reads its pixels one by one.
+  if (form_factors_->reads_hemicube()) {
+    std::vector<bool> diffuse(mesh.groups.size(), true);
+    for (const Element& e : mesh.elements)
+      if (materials[std::size_t(e.material)].specular > 0) diffuse[e.group] = false;
+    hemicube_.use_proxies(group_proxies(mesh, diffuse, stop));
+  }
   clusters_ = find_clusters(
       mesh, materials, open ? std::span<const double>(open->share) : std::span<const double>());
   cluster_of_.assign(mesh.patches.size(), -1);
