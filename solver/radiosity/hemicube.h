@@ -90,13 +90,13 @@ class Hemicube {
  private:
   template <typename Weight>
   std::vector<VisibleElement>& accumulate(Weight weight, bool watching);
+  // Hands corners_ and ids_ to the GL buffers.
+  void upload();
 
   const Mesh& mesh_;
   DeltaFormFactors deltas_;
   GlContext context_;
   unsigned vertex_buffer_ = 0, color_buffer_ = 0;
-  void upload();
-
   std::vector<glm::vec3> corners_;  // 4 per element (triangles repeat the last), float,
   std::vector<std::uint32_t> ids_;  // then 4 per proxy triangle; the id + 1 of each
   GroupProxies proxies_;
