@@ -22,9 +22,12 @@ namespace {
 // elements, hemi-cube 150) 3.4 ms; the room family of bumprad-bench-scale 9.5 ms at 10k
 // elements, 26.5 ms at 100k, 69 ms at 300k and 225 ms at 1M, where most receivers fall
 // between hemi-cube pixels and take ray-cast form factors (grouped: one pass over them).
+// Since far groups are drawn by proxies (2026-12-07) the room's shots take 5.6, 12-14 and
+// 67 ms at 10k, 100k and 1M: 6e-8 s an element beyond 100k. (3e-7 put the 1M room at 0.21
+// of its estimate.)
 constexpr double kShotFixed_s = 5e-4;
 constexpr double kPerHemicubePixel_s = 2e-8;  // per R^2
-constexpr double kPerElement_s = 3e-7;        // per element per shot
+constexpr double kPerElement_s = 1e-7;        // per element per shot
 constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value, per shot
 // A group of a mesh's small triangles (mesh.h) blends the visibility its lookouts' rays
 // find, four lookouts of 64 rays each a group, every shot: 7 ms a shot for the room
