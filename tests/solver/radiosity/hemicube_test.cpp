@@ -240,7 +240,7 @@ TEST(Hemicube, SkipsTheShootingPatchAndBackFaces) {
 // drawn by proxies (group_proxies.h), the near ones as they are. No crack opens between the
 // two (the proxies' skirts): the void beyond the hills' outline fills the same pixels within
 // 0.1 % of the view (without the skirts 3.7 % more of it was void), and the hills the same
-// share of the view.
+// share of the view. Watched elements' groups are drawn as they are.
 TEST(Hemicube, ProxiesFarOffLeaveNoCrack) {
   Object hills = test::quad({});
   hills.shape = test::hills(
@@ -271,6 +271,12 @@ TEST(Hemicube, ProxiesFarOffLeaveNoCrack) {
   EXPECT_GT(void_share[0], 0.05) << "the void beyond the outline is in view";
   EXPECT_NEAR(void_share[1], void_share[0], 0.001);
   EXPECT_NEAR(seen[1], seen[0], 0.001);
+
+  // Watched elements (the perturbed map reads their pixels one by one) keep their groups
+  // whole: the same item buffer as without proxies, pixel for pixel.
+  coarse.watch(std::vector<bool>(mesh.elements.size(), true));
+  coarse.render(eye, frame_about(down, 0.4), std::nullopt);
+  EXPECT_TRUE(std::equal(ids_full.begin(), ids_full.end(), coarse.item_buffer().begin()));
 }
 
 }  // namespace
