@@ -164,7 +164,8 @@ void Hemicube::watch(std::vector<bool> elements) {
   watched_ = std::move(elements);
   whole_.assign(mesh_.groups.size(), false);
   for (std::size_t e = 0; e < watched_.size(); ++e)
-    if (watched_[e]) whole_[mesh_.elements[e].group] = true;
+    if (watched_[e] && mesh_.elements[e].group < whole_.size())  // a mesh made without groups
+      whole_[mesh_.elements[e].group] = true;
 }
 
 void Hemicube::render(const Vec3& origin, const Frame& frame,
