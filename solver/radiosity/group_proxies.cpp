@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "solver/scene/geometry.h"
 #include "solver/util/parallel.h"
 
 namespace bumprad {
@@ -303,9 +304,8 @@ ProxyLevel level(const Setting& s, double cell_sides, std::vector<double>& budge
     for (std::uint32_t i = group.first; i < group.first + group.count; ++i) {
       const Element& e = mesh.elements[i];
       const double close = 0.25 * cell_sides * s.median_side[e.surface];
-      std::array<Vec3, 4> corner;
-      for (int k = 0; k < e.vertex_count; ++k)
-        corner[std::size_t(k)] = mesh.vertices[e.v[std::size_t(k)]].position;
+      std::array<Vec3, 4> storage;
+      const std::span<const Vec3> corner = element_corners(mesh, e, storage);
       for (int k = 0; k < e.vertex_count; ++k) {
         const std::uint32_t v = e.v[std::size_t(k)];
         const std::size_t c = std::size_t(clusters.of[v]);
@@ -388,11 +388,7 @@ GroupProxies group_proxies(const Mesh& mesh, const std::vector<bool>& eligible,
     GroupProxies::Sphere& sphere = out.spheres[g];
     const ElementGroup& group = mesh.groups[g];
     sphere.centre = group.centroid;
-    for (std::uint32_t i = group.first; i < group.first + group.count; ++i)
-      for (int k = 0; k < mesh.elements[i].vertex_count; ++k)
-        sphere.radius = std::max(
-            sphere.radius, glm::length(mesh.vertices[mesh.elements[i].v[std::size_t(k)]].position -
-                                       sphere.centre));
+    sphere.radius = run_radius(mesh, group);
     for (const ProxyLevel& l : out.levels) {
       const ProxyLevel::Group& proxy = l.groups[g];
       for (std::uint32_t t = proxy.first; t < proxy.first + proxy.count; ++t)

@@ -109,17 +109,12 @@ Hemicube::Hemicube(const Mesh& mesh, int resolution)
       sums_(mesh.elements.size(), 0.0) {
   // Unshared corners so each element carries its own id colour; RGBA8 holds id + 1 exactly.
   corners_.reserve(mesh.elements.size() * 4);
-  ids_.reserve(mesh.elements.size() * 4);
-  for (std::size_t e = 0; e < mesh.elements.size(); ++e) {
-    const Element& el = mesh.elements[e];
-    for (int i = 0; i < 4; ++i) {
+  for (const Element& el : mesh.elements)
+    for (int i = 0; i < 4; ++i)
       corners_.push_back(glm::vec3(mesh.vertices[el.v[std::min(i, el.vertex_count - 1)]].position));
-      ids_.push_back(std::uint32_t(e + 1));
-    }
-  }
   glGenBuffers(1, &vertex_buffer_);
   glGenBuffers(1, &color_buffer_);
-  upload();
+  upload(element_ids());
   glEnableClientState(GL_VERTEX_ARRAY);
   glEnableClientState(GL_COLOR_ARRAY);
   glDisable(GL_DITHER);
@@ -131,14 +126,20 @@ Hemicube::Hemicube(const Mesh& mesh, int resolution)
   glClearColor(0, 0, 0, 0);
 }
 
-void Hemicube::upload() {
+std::vector<std::uint32_t> Hemicube::element_ids() const {
+  std::vector<std::uint32_t> ids(4 * mesh_.elements.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = std::uint32_t(i / 4 + 1);
+  return ids;
+}
+
+void Hemicube::upload(std::span<const std::uint32_t> ids) {
   context_.make_current();
   glBindBuffer(GL_ARRAY_BUFFER, vertex_buffer_);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(corners_.size() * sizeof(glm::vec3)), corners_.data(),
                GL_STATIC_DRAW);
   glVertexPointer(3, GL_FLOAT, 0, nullptr);
   glBindBuffer(GL_ARRAY_BUFFER, color_buffer_);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(ids_.size() * sizeof(std::uint32_t)), ids_.data(),
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(ids.size() * sizeof(std::uint32_t)), ids.data(),
                GL_STATIC_DRAW);
   glColorPointer(4, GL_UNSIGNED_BYTE, 0, nullptr);
 }
@@ -146,7 +147,7 @@ void Hemicube::upload() {
 void Hemicube::use_proxies(GroupProxies proxies) {
   proxies_ = std::move(proxies);
   corners_.resize(mesh_.elements.size() * 4);
-  ids_.resize(mesh_.elements.size() * 4);
+  std::vector<std::uint32_t> ids = element_ids();
   level_base_.clear();
   for (const ProxyLevel& level : proxies_.levels)
     for (const auto* list : {&level.triangles, &level.skirts}) {
@@ -154,10 +155,10 @@ void Hemicube::use_proxies(GroupProxies proxies) {
       for (const ProxyTriangle& t : *list)
         for (int i = 0; i < 4; ++i) {
           corners_.push_back(t.corners[std::size_t(std::min(i, 2))]);
-          ids_.push_back(t.element + 1);
+          ids.push_back(t.element + 1);
         }
     }
-  upload();
+  upload(ids);
 }
 
 void Hemicube::watch(std::vector<bool> elements) {

@@ -90,15 +90,17 @@ class Hemicube {
  private:
   template <typename Weight>
   std::vector<VisibleElement>& accumulate(Weight weight, bool watching);
-  // Hands corners_ and ids_ to the GL buffers.
-  void upload();
+  // Each element's id + 1, for its four corners.
+  std::vector<std::uint32_t> element_ids() const;
+  // Hands corners_ and each corner's id + 1 to the GL buffers.
+  void upload(std::span<const std::uint32_t> ids);
 
   const Mesh& mesh_;
   DeltaFormFactors deltas_;
   GlContext context_;
   unsigned vertex_buffer_ = 0, color_buffer_ = 0;
-  std::vector<glm::vec3> corners_;  // 4 per element (triangles repeat the last), float,
-  std::vector<std::uint32_t> ids_;  // then 4 per proxy triangle; the id + 1 of each
+  // 4 per element (a triangle's last repeated), then 4 per proxy triangle; float.
+  std::vector<glm::vec3> corners_;
   GroupProxies proxies_;
   std::vector<std::uint32_t> level_base_;  // per level, the first corner of its triangles,
                                            // then of its skirts

@@ -597,15 +597,9 @@ void HemicubeFormFactors::find_lookouts(std::span<const double> open) {
         for (std::size_t r = 0; r < 4; ++r)
           if (std::isfinite(best[r])) lookout[q] = lookout[r];
     std::sort(lookout.begin(), lookout.end());
-    GroupBounds bounds;
-    for (std::uint32_t i = group.first; i < group.first + group.count; ++i) {
-      const Element& e = mesh_.elements[i];
-      for (int v = 0; v < e.vertex_count; ++v)
-        bounds.radius =
-            std::max(bounds.radius,
-                     glm::length(mesh_.vertices[e.v[std::size_t(v)]].position - group.centroid));
-      bounds.spread = std::max(bounds.spread, glm::length(e.normal - group.normal));
-    }
+    GroupBounds bounds{run_radius(mesh_, group), 0};
+    for (std::uint32_t i = group.first; i < group.first + group.count; ++i)
+      bounds.spread = std::max(bounds.spread, glm::length(mesh_.elements[i].normal - group.normal));
     group_bounds_.push_back(bounds);
     groups_.push_back(g);
     first_lookout_.push_back(std::uint32_t(lookouts_.size()));

@@ -50,6 +50,17 @@ ElementRun element_run(std::span<const Element> elements, std::uint32_t first,
   return r;
 }
 
+double run_radius(const Mesh& mesh, const ElementRun& run) {
+  double radius = 0;
+  for (std::uint32_t i = run.first; i < run.first + run.count; ++i) {
+    const Element& e = mesh.elements[i];
+    for (int k = 0; k < e.vertex_count; ++k)
+      radius =
+          std::max(radius, glm::length(mesh.vertices[e.v[std::size_t(k)]].position - run.centroid));
+  }
+  return radius;
+}
+
 std::array<double, 4> corner_weights(const Element& e, double u, double v) {
   if (e.vertex_count == 3) return {1 - u - v, u, v, 0};
   return {(1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v};

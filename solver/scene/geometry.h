@@ -27,6 +27,8 @@ bool compute_element_geometry(const std::vector<Vertex>& vertices, Element& e);
 // The run of `count` elements from `first`, with their total area and area-weighted
 // centroid and (unit) normal: a patch or a group.
 ElementRun element_run(std::span<const Element> elements, std::uint32_t first, std::uint32_t count);
+// How far the run's farthest corner lies from its centroid.
+double run_radius(const Mesh& mesh, const ElementRun& run);
 
 // The weights of an element's corners at (u, v) as Embree reports a hit: quads
 // p0 + u (p1 - p0) + v (p3 - p0) bilinearly, triangles (1 - u - v) p0 + u p1 + v p2.
