@@ -34,7 +34,8 @@ constexpr double kPerMapValue_s = 1e-7;       // per bumpy vertex and map value,
 // family's 266 groups, 16 ms for the objects family's 604. (A shot from a patch smaller
 // than the scene's natural one takes 16 rays a lookout, about half the cost: not counted.
 // A cluster's shot, nine rays a lookout: not counted either; the objects family, whose
-// balls shoot as clusters, runs at 0.47-0.55 of its estimate.)
+// balls shoot as clusters, ran at 0.47-0.55 of its estimate; 0.58-0.66 since the shots'
+// proxies and 1e-7 s an element.)
 constexpr double kPerGroup_s = 2.5e-5;
 // A non-diffuse shooter's specular transfer (paper-room: 0.55 ms mean for its mirror, 1.6 ms
 // for its glossy sphere).
