@@ -168,8 +168,17 @@ class PatchRays {
     Vec3 at, value;
     std::array<Vec3, 3> slope, curve, twist;  // d/dx_i; d2/dx_i2; d2/dx dy, dx dz, dy dz
     double scale;                             // 1 / the patch's area
-    // F from the patch to an element of the group.
-    double operator()(const Element& e) const {
+    // The samples' directions from anywhere in the group lie within a cone about `axis`
+    // whose half-angle has this sine (-1: no sample faces the group).
+    Vec3 axis;
+    double cone_sin;
+    // F from the patch to an element of the group; none where the element's horizon
+    // crosses the cone (some samples in front of it, some behind: the sum's clamped
+    // cosines are not the field's).
+    std::optional<double> operator()(const Element& e) const {
+      const double facing = glm::dot(e.normal, axis);
+      if (facing < -cone_sin) return 0.0;  // every sample behind it
+      if (facing <= cone_sin) return std::nullopt;
       const Vec3 u = e.centroid - at;
       const Vec3 v =
           value + slope[0] * u.x + slope[1] * u.y + slope[2] * u.z +
@@ -178,8 +187,8 @@ class PatchRays {
       return scale * e.area * glm::dot(e.normal, v);
     }
   };
-  std::optional<Field> unoccluded_field(std::uint32_t patch, const ElementRun& group, double radius,
-                                        double spread) const;
+  std::optional<Field> unoccluded_field(std::uint32_t patch, const ElementRun& group,
+                                        double radius) const;
   // The share of the weighed patch's samples in view from `element` (NaN if none faces it),
   // by its kRaySamples or, for a lookout, its kLookoutSamples (kSmallShooterLookoutSamples
   // from a small shooter).
@@ -262,35 +271,51 @@ double PatchRays::shooting_area(std::uint32_t shooter, const Element& receiver,
 }
 
 // Far from the samples, a group's unoccluded form factors need not be summed over them
-// element by element: with every sample in front of every element, Wallace's sum is
+// element by element: where every sample lies in front of an element, Wallace's sum is
 // n . V(x), V(x) = sum of a_s cos_s w_s / (pi r_s^2 + a_s) over the samples (w_s the unit
 // vector to sample s), and V is smooth over the group. Its values at the group's centre and
 // ten points a radius about it fit a quadratic field, whose error falls as
 // (radius / distance)^3. Against the elements' own sums, over every shot of
 // bumprad-bench-scale's 100k-triangle room: 0.09 % RMS beyond 8 radii (0.15 % beyond 6,
 // 0.5 % beyond 4; a linear field 0.5 % beyond 8), where a group of about 300 triangles
-// took 11 sums instead of 300 (the loop had been a sixth of the solve; 7.25 -> 5.8 s). A sample
-// near an element's horizon or its own (where the sum's clamped cosines bend), too close, or a
-// shooter that takes Lambert's exact values there (unoccluded()) leaves the group to its own sums;
-// so do groups of kFieldElements or fewer, where the field saves nothing.
+// took 11 sums instead of 300 (the loop had been a sixth of the solve; 7.25 -> 5.8 s).
+// Each element is judged on its own (Field::operator()): on a curved group (an imported
+// figure's) most elements see the whole shooter, some see none of it, and only those
+// whose horizon crosses it keep their own sums (taken for the whole group, the field
+// served 2 % of the models family's grouped elements at 134k triangles). A sample near its
+// own horizon (where the sum's clamped cosines bend), too close, or a shooter that takes
+// Lambert's exact values there (unoccluded()) leaves the group to its own sums; so do
+// groups of kFieldElements or fewer, where the field saves nothing.
 constexpr double kFarSizes = 8;
 constexpr std::uint32_t kFieldElements = 16;
 std::optional<PatchRays::Field> PatchRays::unoccluded_field(std::uint32_t patch,
-                                                            const ElementRun& group, double radius,
-                                                            double spread) const {
+                                                            const ElementRun& group,
+                                                            double radius) const {
   const Patch& p = mesh_.patches[patch];
   if (group.first >= p.first && group.first < p.first + p.count) return std::nullopt;
   if (p.count <= kExactElements &&
       glm::length(group.centroid - p.centroid) < near_field_radius(p) + radius)
     return std::nullopt;  // unoccluded() takes Lambert's exact values there
+  // The samples facing the group, each by its direction and how far that turns across it.
+  std::vector<std::pair<Vec3, double>> facing;
+  Vec3 axis(0);
   for (const AreaSample& s : shot_samples_) {
     const Vec3 d = s.point - group.centroid;
     const double r = glm::length(d);
     if (!(r > kFarSizes * radius)) return std::nullopt;
-    const double margin = radius / r;
-    const double cos_s = -glm::dot(s.normal, d) / r, cos_r = glm::dot(group.normal, d) / r;
-    const bool behind = cos_s < -margin || cos_r < -(margin + spread);
-    if (!behind && (cos_s < margin || cos_r < margin + spread)) return std::nullopt;
+    const double margin = radius / r, cos_s = -glm::dot(s.normal, d) / r;
+    if (std::abs(cos_s) < margin) return std::nullopt;
+    if (cos_s > 0) {
+      facing.emplace_back(d / r, std::asin(margin));
+      axis += d / r;
+    }
+  }
+  double cone = 0;  // the half-angle
+  if (!facing.empty()) {
+    axis = glm::normalize(axis);
+    for (const auto& [w, turn] : facing)
+      cone = std::max(cone, std::acos(std::clamp(glm::dot(w, axis), -1.0, 1.0)) + turn);
+    if (!(cone < kPi / 2)) return std::nullopt;
   }
   auto sum = [&](const Vec3& x) {
     Vec3 v(0);
@@ -299,13 +324,20 @@ std::optional<PatchRays::Field> PatchRays::unoccluded_field(std::uint32_t patch,
       const double r2 = glm::dot(d, d);
       const Vec3 w = d / std::sqrt(r2);
       const double cos_s = -glm::dot(s.normal, w);
-      if (cos_s > 0 && glm::dot(group.normal, w) > 0) v += wallace_term(1, cos_s, s.area, r2) * w;
+      if (cos_s > 0) v += wallace_term(1, cos_s, s.area, r2) * w;
     }
     return v;
   };
   const Vec3& c = group.centroid;
   const double h = radius;
-  Field field{c, sum(c), {}, {}, {}, 1 / p.area};
+  Field field{c,
+              sum(c),
+              {},
+              {},
+              {},
+              1 / p.area,
+              facing.empty() ? group.normal : axis,
+              facing.empty() ? -1 : std::sin(cone)};
   std::array<Vec3, 3> up, step{Vec3(h, 0, 0), Vec3(0, h, 0), Vec3(0, 0, h)};
   for (int i = 0; i < 3; ++i) {
     up[i] = sum(c + step[i]);
@@ -528,13 +560,8 @@ class HemicubeFormFactors : public ShotFormFactors {
   void find_lookouts(std::span<const double> open);
   void blend_lookouts(std::stop_token stop);
 
-  std::vector<std::uint32_t> groups_;  // the groups of more than one element
-  // Per group in groups_: the farthest of its vertices from its centroid, and the farthest
-  // of its elements' normals from its own (the length of their difference).
-  struct GroupBounds {
-    double radius = 0, spread = 0;
-  };
-  std::vector<GroupBounds> group_bounds_;
+  std::vector<std::uint32_t> groups_;         // the groups of more than one element
+  std::vector<double> group_radius_;          // per group in groups_: run_radius()
   std::vector<std::uint32_t> lookouts_;       // elements whose rays sample the groups' visibility
   std::vector<std::uint32_t> first_lookout_;  // per group in groups_ and one past: in lookouts_
   std::vector<Blend> blends_;                 // per grouped element, groups_' elements in order
@@ -597,10 +624,7 @@ void HemicubeFormFactors::find_lookouts(std::span<const double> open) {
         for (std::size_t r = 0; r < 4; ++r)
           if (std::isfinite(best[r])) lookout[q] = lookout[r];
     std::sort(lookout.begin(), lookout.end());
-    GroupBounds bounds{run_radius(mesh_, group), 0};
-    for (std::uint32_t i = group.first; i < group.first + group.count; ++i)
-      bounds.spread = std::max(bounds.spread, glm::length(mesh_.elements[i].normal - group.normal));
-    group_bounds_.push_back(bounds);
+    group_radius_.push_back(run_radius(mesh_, group));
     groups_.push_back(g);
     first_lookout_.push_back(std::uint32_t(lookouts_.size()));
     lookouts_.insert(lookouts_.end(), lookout.begin(), std::unique(lookout.begin(), lookout.end()));
@@ -840,7 +864,7 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
       int(groups_.size()),
       [&](int k) {
         const ElementGroup& group = mesh_.groups[groups_[std::size_t(k)]];
-        const GroupBounds& bounds = group_bounds_[std::size_t(k)];
+        const double radius = group_radius_[std::size_t(k)];
         std::vector<VisibleElement>& out = per_group[std::size_t(k)];
         // The field is fitted, and each unoccluded value found, only where some of the
         // shooter is in view: behind a hill, or facing away, nothing is owed.
@@ -850,10 +874,12 @@ std::vector<VisibleElement> HemicubeFormFactors::grouped(const Shot& shot) const
           const double visible = blended_view(std::size_t(k), j, seen);
           if (!(visible > 0)) continue;
           if (!tried && group.count > kFieldElements &&
-              beyond_near_points(shot, group.centroid) > bounds.radius)
-            field = rays_->unoccluded_field(shot.patch, group, bounds.radius, bounds.spread);
+              beyond_near_points(shot, group.centroid) > radius)
+            field = rays_->unoccluded_field(shot.patch, group, radius);
           tried = true;
-          const double f = (field ? (*field)(mesh_.elements[j]) : grouped_unoccluded(shot, j)) *
+          const std::optional<double> from_field =
+              field ? (*field)(mesh_.elements[j]) : std::nullopt;
+          const double f = (from_field ? *from_field : grouped_unoccluded(shot, j)) *
                            (open_ ? open_->share[j] : 1);
           if (f > 0) out.push_back({j, f * visible});
         }
