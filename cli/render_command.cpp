@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -29,7 +30,8 @@ constexpr const char* kUsage =
     "usage: bumprad render SCENE -o OUT.(png|exr) [--shots N] [--hemicube R] [--tolerance T]\n"
     "                      [--export-solution S.json] [--bump B.json] [--save-map M]\n"
     "  --tolerance T: solve on until the image's estimated error against path-traced ground\n"
-    "                 truth is below T (e.g. 0.02), or stops falling; prints the estimate\n"
+    "                 truth is below T (e.g. 0.02), or stops falling: more shots, then more\n"
+    "                 rays a pixel, then finer elements; prints the estimate\n"
     "  SCENE is a JSON file or builtin:NAME (see `bumprad scenes`)\n";
 
 struct RenderArgs {
@@ -77,6 +79,10 @@ void print_summary(const std::string& output, const Image& image, const Scene& s
         "estimated error against path-traced ground truth: %.1f %% +- %.1f %% (tolerance "
         "%.1f %%)\n",
         100 * stats.estimated_error, 100 * stats.estimated_error_se, 100 * scene.solver.tolerance);
+  if (stats.antialias > 0 || !solution.refinements.empty())
+    std::printf("refined: %d x %d rays a pixel, %zu levels of subdivision\n",
+                std::max(scene.camera.antialias, stats.antialias),
+                std::max(scene.camera.antialias, stats.antialias), solution.refinements.size());
   if (stats.non_diffuse_elements)
     std::printf(
         "non-diffuse: %zu elements (specular transfer in the solve, reflections in "

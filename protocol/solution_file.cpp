@@ -17,8 +17,8 @@ namespace {
 constexpr char kMagic[8] = {'B', 'U', 'M', 'P', 'R', 'A', 'D', 'S'};
 // Version 2 added the adaptive refinements, 3 the direct part of B, 4 the estimated error
 // (solver.tolerance), 5 the map basis (spherical harmonics by default; older files hold
-// sampled normals); version 1 files (none) still load.
-constexpr std::uint32_t kVersion = 5;
+// sampled normals), 6 the rays a pixel a tolerance chose; version 1 files (none) still load.
+constexpr std::uint32_t kVersion = 6;
 static_assert(std::endian::native == std::endian::little, "the file format is little-endian");
 
 // FNV-1a, 64 bit: enough to tell a damaged file from a whole one.
@@ -113,6 +113,7 @@ std::string encode_solution(std::string_view scene_json, const Solution& solutio
   w.put_rgbs(solution.direct);
   w.put(s.estimated_error);
   w.put(s.estimated_error_se);
+  w.put(std::int32_t(s.antialias));
   w.put(fnv1a(w.bytes().data(), w.bytes().size()));
   return std::move(w.bytes());
 }
@@ -177,6 +178,11 @@ LoadedSolution decode_solution(std::string_view bytes, const std::string& name,
   if (version >= 4) {
     s.stats.estimated_error = r.get<double>();
     s.stats.estimated_error_se = r.get<double>();
+  }
+  if (version >= 6) {
+    s.stats.antialias = r.get<std::int32_t>();
+    if (s.stats.antialias < 0 || s.stats.antialias > Limits::kMaxAntialias)
+      throw SolutionFileError(name + ": implausible rays a pixel");
   }
   try {
     s.mesh = refined_mesh(out.scene, s.refinements);

@@ -222,8 +222,15 @@ double expected_shots(const Scene& scene) {
 }
 
 CostEstimate estimate_cost(const Scene& scene) {
-  CostEstimate e = estimate_render_cost(scene);
   const SolverSettings& s = scene.solver;
+  // A tolerance may render with more rays a pixel than the camera asks (solution.h), and
+  // solve up to kToleranceLevels more adaptive levels: at most that is counted.
+  Scene rendered = scene;
+  if (s.tolerance > 0)
+    rendered.camera.antialias =
+        std::max(rendered.camera.antialias, SolverSettings::kToleranceAntialias);
+  const int levels = s.adaptive_levels + (s.tolerance > 0 ? SolverSettings::kToleranceLevels : 0);
+  CostEstimate e = estimate_render_cost(rendered);
   const std::vector<Part> parts = parts_of(scene);
   double elements = 0, bumpy = 0, patches = 0, shooters = 0, emitters = 0, groups = 0;
   for (const Part& p : parts) {
@@ -253,24 +260,26 @@ CostEstimate estimate_cost(const Scene& scene) {
       s.texture == TextureMode::None || bumpy == 0 ? 0 : double(MapBasis(s.map).size());
   // Each adaptive level may split every element in four (up to the element limit) and
   // solves again from the start.
-  for (int level = 0; level <= s.adaptive_levels; ++level) {
+  for (int level = 0; level <= levels; ++level) {
     const double scale = std::min(double(1 << (2 * level)), Limits::kMaxElements / elements);
     const double n = elements * std::max(1.0, scale), nb = bumpy * std::max(1.0, scale);
     e.setup_s += kSetupPerElement_s * n;
     double shot_s = hemicube_s + kPerElement_s * n + kPerGroup_s * groups;
     if (s.texture == TextureMode::Shoot) shot_s += kPerMapValue_s * nb * map_values;
     e.solve_s += shots * shot_s + near_s + specular_s;
-    if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
+    if (level == levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
   e.solve_s += e.setup_s;
   // solver.tolerance: the estimator's traced pixels once (error_estimate.h: paths of about ten
-  // rays), and a round of estimation (a view of at most 1024 x 512 at the camera's rays) each
-  // time the unshot target falls to a third, down to 1e-4.
+  // rays), and on each level a round of estimation (a view of at most 1024 x 512 at the
+  // tolerance's rays) each time the unshot target falls to a third, down to 1e-4, and one
+  // for the pixels.
   double rounds = 0;
   if (s.tolerance > 0) {
-    rounds = 1 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
-    Scene view = scene;
+    rounds = (levels + 1) *
+             (2 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0)));
+    Scene view = rendered;
     view.camera.width = std::min(view.camera.width, 1024);
     view.camera.height = std::min(view.camera.height, 512);
     const ErrorEstimateSettings traced;
@@ -282,8 +291,7 @@ CostEstimate estimate_cost(const Scene& scene) {
       count(elements) + " elements" +
       (groups > 0 ? " (" + count(groups) + " groups)" : std::string()) + ", " + count(patches) +
       " patches, about " + count(shots) + " shots at hemi-cube " + count(s.hemicube_resolution) +
-      (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
-                             : std::string()) +
+      (levels > 0 ? ", up to " + count(levels) + " adaptive levels" : std::string()) +
       (map_values > 0
            ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) + " map values"
            : std::string()) +

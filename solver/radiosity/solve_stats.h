@@ -24,6 +24,9 @@ struct SolveStats {
   // With SolverSettings::tolerance: the image's estimated relative RMS error against ground
   // truth and its standard error (error_estimate.h); 0 when not estimated.
   double estimated_error = 0, estimated_error_se = 0;
+  // With a tolerance: the rays a pixel across it chose for the view, if more than the
+  // camera's (SolutionView renders with them); 0: the camera's.
+  int antialias = 0;
   std::size_t perturbed_elements = 0;
   std::size_t map_values = 0;            // numbers a map vertex stores per channel
   std::size_t non_diffuse_elements = 0;  // with a specular fraction

@@ -215,9 +215,14 @@ struct SolverSettings {
   double unshot_fraction = 0.01;
   // Target relative RMS error of the image against ground truth; 0: off. When set, the solve
   // estimates its error (solver/render/error_estimate.h) once it reaches unshot_fraction, and
-  // shoots on to a third of the unshot power while the estimate is above the target, falls, and
-  // max_shots allows. SolveStats reports the estimate.
+  // while the estimate is above the target: shoots on to a third of the unshot power while
+  // that lowers it by a tenth and max_shots allows; then renders with kToleranceAntialias
+  // rays a pixel across; then splits elements as adaptive subdivision does, up to
+  // kToleranceLevels levels beyond adaptive_levels, while each lowers it by a tenth.
+  // SolveStats reports the estimate.
   double tolerance = 0;
+  static constexpr int kToleranceAntialias = 4;
+  static constexpr int kToleranceLevels = 2;
   double element_size = 0;      // 0: a sixteenth of the scene's bounding-box diagonal
   int patch_elements = 0;       // elements per patch side (patches shoot, elements receive);
                                 // 0: automatic, mesh.h's patch_elements()

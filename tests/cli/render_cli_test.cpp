@@ -65,11 +65,11 @@ TEST_F(RenderCli, RendersTheCornellBoxAndExportsTheSolution) {
   EXPECT_TRUE(lit_light);
 }
 
-// A tolerance the solve cannot reach within its shots: it stops there and prints what it
-// estimates (solver/render/error_estimate.cpp; tests/solver/ground_truth_test.cpp checks the
-// value).
+// A tolerance: the solve prints what it estimates (solver/render/error_estimate.cpp;
+// tests/solver/ground_truth_test.cpp checks the value and what a tolerance out of reach
+// refines). One met at once, as 0.5 is, takes the shots asked for.
 TEST_F(RenderCli, AToleranceReportsTheEstimatedError) {
-  Process r = run("render builtin:cornell --shots 30 --tolerance 0.001 -o " + path("t.png"));
+  Process r = run("render builtin:cornell --shots 30 --tolerance 0.5 -o " + path("t.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("30 shots"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("estimated error against path-traced ground truth: "), std::string::npos)

@@ -47,11 +47,17 @@ TEST(Cost, GrowsWithShotsElementsResolutionAndPixels) {
               1e-9 * base.render_s);
   EXPECT_EQ(estimate_cost(more).solve_s, base.solve_s);
   more = s;
-  more.solver.tolerance = 0.02;  // error estimates, at most one a third of the unshot power
+  // A tolerance: error estimates, at most one a third of the unshot power and one for the
+  // pixels, on each of up to kToleranceLevels more adaptive levels, and the image at
+  // kToleranceAntialias rays a pixel across.
+  more.solver.tolerance = 0.02;
   const CostEstimate tolerant = estimate_cost(more);
   EXPECT_GT(tolerant.solve_s, base.solve_s);
-  EXPECT_NE(tolerant.solve_terms.find("up to 4 error estimates"), std::string::npos)
-      << tolerant.solve_terms;  // 0.1 % down to 1e-4: 1 + ceil(log3 10)
+  EXPECT_NE(tolerant.solve_terms.find("up to 2 adaptive levels, up to 15 error estimates"),
+            std::string::npos)
+      << tolerant.solve_terms;  // 0.1 % down to 1e-4: 3 levels x (2 + ceil(log3 10))
+  EXPECT_NEAR(tolerant.render_s - tolerant.render_mesh_s, 4 * (base.render_s - base.render_mesh_s),
+              1e-9 * base.render_s);  // the built-in's 2 x 2 rays a pixel: 4 x 4
 }
 
 // The built-in scenes solve and render in 4-12 s here (README); the estimate must not be
