@@ -75,6 +75,7 @@ json job_document(const JobRecord& j, bool with_history) {
   if (j.estimated_error > 0)
     d["estimated_error"] = {{"relative_rms", j.estimated_error},
                             {"standard_error", j.estimated_error_se}};
+  if (j.antialias > 0) d["antialias"] = j.antialias;
   if (!j.error.empty()) d["error"] = j.error;
   if (!j.warnings.empty()) d["warnings"] = j.warnings;
   if (with_history && !j.history.empty()) {
@@ -148,6 +149,7 @@ JobRecord job_from_json(std::string_view text) {
     j.estimated_error = (*e)["relative_rms"].number();
     j.estimated_error_se = (*e)["standard_error"].number();
   }
+  if (auto a = n.get("antialias")) j.antialias = int(a->integer(1, kMaxInt));
   if (auto e = n.get("error")) j.error = e->string();
   if (auto w = n.get("warnings"))
     for (std::size_t i = 0, count = w->array(0, 10'000); i < count; ++i)

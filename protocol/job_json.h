@@ -43,6 +43,9 @@ struct JobRecord {
   // With solver.tolerance: the image's estimated relative RMS error against ground truth
   // and its standard error; 0 when not estimated.
   double estimated_error = 0, estimated_error_se = 0;
+  // Once done: the rays a pixel across its images are rendered with (the camera's, or more
+  // where a tolerance chose them); 0: not known yet.
+  int antialias = 0;
   std::string error;  // why the job failed or was interrupted
   // What the job's models dropped or assumed (from the submission), and what its render
   // shows amiss (surfaces seen from behind, from the solve): one line each.

@@ -31,6 +31,7 @@ TEST(JobJson, ARecordComesBackAsItWent) {
   r.seconds_previews = 0.4;
   r.estimated_error = 0.018;
   r.estimated_error_se = 0.004;
+  r.antialias = 4;
   r.warnings = {"/scene/objects/0: \"room.glb\": 3 degenerate triangles dropped"};
   r.history = {{0, 0.01, 1}, {25, 0.4, 0.3}, {640, 1.6, 0.005}};
   const JobRecord back = job_from_json(job_to_json(r));
@@ -42,6 +43,7 @@ TEST(JobJson, ARecordComesBackAsItWent) {
   EXPECT_EQ(back.state, JobState::Done);
   EXPECT_EQ(back.first_kept_step, 3);
   EXPECT_EQ(back.estimated_error_se, 0.004);
+  EXPECT_EQ(back.antialias, 4);
   const json j = json::parse(job_to_json(r));
   EXPECT_EQ(j["links"]["image"], "/v1/jobs/0123456789abcdef/image");
 }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/web_assets.h"
+#include "solver/scene/scene.h"
 #include "tests/server/in_process.h"
 #include "tests/test_files.h"
 #include "tests/test_server.h"
@@ -104,7 +105,9 @@ TEST(Api, MethodsARouteDoesNotTakeGet405WithTheTablesAllow) {
   EXPECT_EQ(s.answer(request(verb::get, "/v1/jobs/abc/steps/.png", "")).result_int(), 404);
 }
 
-// solver.tolerance travels from the request to the solve, and the estimate back to the job.
+// solver.tolerance travels from the request to the solve, and the estimate back to the job,
+// with the rays a pixel it chose (out of reach, it takes kToleranceAntialias where the
+// camera's default is 2).
 TEST(Api, AJobWithAToleranceReportsItsEstimatedError) {
   test::InProcessServer s(test::fresh_temp_dir("api-tolerance"));
   json scene = json::parse(test::small_scene_json(20));
@@ -117,6 +120,7 @@ TEST(Api, AJobWithAToleranceReportsItsEstimatedError) {
   ASSERT_TRUE(job.contains("estimated_error")) << job.dump();
   EXPECT_GT(job["estimated_error"]["relative_rms"].get<double>(), 0);
   EXPECT_GT(job["estimated_error"]["standard_error"].get<double>(), 0);
+  EXPECT_EQ(job["antialias"], SolverSettings::kToleranceAntialias);
 }
 
 TEST(Api, RetexturesRenderOnTheirPoolAndStopWhenAsked) {
