@@ -18,6 +18,9 @@ namespace {
 // Draft previews take at most this share of a job's time: a step that comes sooner shows
 // in the next preview.
 constexpr double kPreviewShare = 0.25;
+// A tolerance's extra adaptive levels (solve()) must end within this share of the job's time
+// limit: the final image and its storing take the rest.
+constexpr double kRefineShare = 0.75;
 // A step without a preview reaches the store at most this often: a lease (seconds long) and a
 // progress bar need no more, and in a farm the database takes every worker's writes.
 constexpr double kProgressInterval = 0.1;
@@ -96,7 +99,7 @@ void JobRunner::Attempt::run(const std::string& scene_json) {
     Solution solution = solve(
         scene,
         [this](const Snapshot& snap, const Solution& partial) { return step(snap, partial); },
-        stop_.get_token());
+        stop_.get_token(), kRefineShare * runner_.options_.job_timeout_s);
     if (stop_.stop_requested()) return stopped(solution.stats);
     finish(scene, scene_json, solution);
   } catch (const std::exception& e) {

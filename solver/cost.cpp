@@ -223,13 +223,15 @@ double expected_shots(const Scene& scene) {
 
 CostEstimate estimate_cost(const Scene& scene) {
   const SolverSettings& s = scene.solver;
-  // A tolerance may render with more rays a pixel than the camera asks (solution.h), and
-  // solve up to kToleranceLevels more adaptive levels: at most that is counted.
+  // A tolerance may render with more rays a pixel than the camera asks (solution.h): that is
+  // counted. Its extra adaptive levels are not: solve() takes them only within the time a
+  // job allows (refine_within_s), and a level's cost, a whole solve on up to four times the
+  // elements, is what the one before it measured.
   Scene rendered = scene;
   if (s.tolerance > 0)
     rendered.camera.antialias =
         std::max(rendered.camera.antialias, SolverSettings::kToleranceAntialias);
-  const int levels = s.adaptive_levels + (s.tolerance > 0 ? SolverSettings::kToleranceLevels : 0);
+  const int levels = s.adaptive_levels;
   CostEstimate e = estimate_render_cost(rendered);
   const std::vector<Part> parts = parts_of(scene);
   double elements = 0, bumpy = 0, patches = 0, shooters = 0, emitters = 0, groups = 0;
@@ -272,13 +274,11 @@ CostEstimate estimate_cost(const Scene& scene) {
   }
   e.solve_s += e.setup_s;
   // solver.tolerance: the estimator's traced pixels once (error_estimate.h: paths of about ten
-  // rays), and on each level a round of estimation (a view of at most 1024 x 512 at the
-  // tolerance's rays) each time the unshot target falls to a third, down to 1e-4, and one
-  // for the pixels.
+  // rays), and a round of estimation (a view of at most 1024 x 512 at the tolerance's rays)
+  // each time the unshot target falls to a third, down to 1e-4, and one for the pixels.
   double rounds = 0;
   if (s.tolerance > 0) {
-    rounds = (levels + 1) *
-             (2 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0)));
+    rounds = 2 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
     Scene view = rendered;
     view.camera.width = std::min(view.camera.width, 1024);
     view.camera.height = std::min(view.camera.height, 512);
@@ -291,13 +291,15 @@ CostEstimate estimate_cost(const Scene& scene) {
       count(elements) + " elements" +
       (groups > 0 ? " (" + count(groups) + " groups)" : std::string()) + ", " + count(patches) +
       " patches, about " + count(shots) + " shots at hemi-cube " + count(s.hemicube_resolution) +
-      (levels > 0 ? ", up to " + count(levels) + " adaptive levels" : std::string()) +
+      (levels > 0 ? ", " + count(levels) + " adaptive levels" : std::string()) +
       (map_values > 0
            ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) + " map values"
            : std::string()) +
       (near_s > 0.1 * e.solve_s ? ", a near field of about " + count(near_s) + " s"
                                 : std::string()) +
-      (rounds > 0 ? ", up to " + count(rounds) + " error estimates" : std::string());
+      (rounds > 0
+           ? ", up to " + count(rounds) + " error estimates (then, as time allows, finer elements)"
+           : std::string());
   return e;
 }
 

@@ -48,8 +48,12 @@ struct Solution {
 using StepCallback = std::function<bool(const Snapshot&, const Solution&)>;
 
 // `stop` ends the solve mid-shot (a cancelled job): the solution is then partial and
-// its map unfinished, and no final step is reported.
-Solution solve(const Scene& scene, const StepCallback& on_step = {}, std::stop_token stop = {});
+// its map unfinished, and no final step is reported. With `refine_within_s`, a tolerance's
+// extra adaptive levels (SolverSettings::tolerance) are taken only where the level before,
+// scaled by the elements the next would have, says it ends within that many seconds of the
+// solve's start (a job's time limit); 0: no limit.
+Solution solve(const Scene& scene, const StepCallback& on_step = {}, std::stop_token stop = {},
+               double refine_within_s = 0);
 
 // The scene's mesh with a solution's refinements applied; throws std::invalid_argument if
 // they do not fit it.
