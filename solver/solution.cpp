@@ -84,8 +84,9 @@ Solution solve_on(const Scene& scene, std::unique_ptr<Mesh> mesh_in, const StepC
   solver.run(step, stop);
   take();
   // A tolerance: estimate, and shoot on while that helps (the estimate falls by a tenth or
-  // more a round); what no shot can lower (the mesh, the hemi-cube) stays, and is reported.
-  // In gather mode the map comes after the solve, so these rounds see the bumps flat.
+  // more a round); what no shot can lower is refined below (the pixels) and in solve() (the
+  // mesh); the hemi-cube stays, and what it costs is reported. In gather mode the map comes
+  // after the solve, so these rounds see the bumps flat.
   double estimate_s = 0;
   const auto estimate = [&] {
     auto t = Clock::now();
@@ -155,8 +156,8 @@ std::unique_ptr<Mesh> refined_mesh(const Scene& scene,
 }
 
 // Adaptive subdivision: solve, split where neighbours differ, solve the finer mesh again,
-// up to adaptive_levels times. Each level is a whole progressive solve; the step callback
-// sees them all.
+// up to adaptive_levels times, and a tolerance's levels after those (scene.h). Each level is
+// a whole progressive solve; the step callback sees them all.
 Solution solve(const Scene& scene, const StepCallback& on_step, std::stop_token stop,
                double refine_within_s) {
   auto t0 = Clock::now();
