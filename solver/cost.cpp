@@ -274,17 +274,22 @@ CostEstimate estimate_cost(const Scene& scene) {
   }
   e.solve_s += e.setup_s;
   // solver.tolerance: the estimator's traced pixels once (error_estimate.h: paths of about ten
-  // rays), and a round of estimation (a view of at most 1024 x 512 at the tolerance's rays)
-  // each time the unshot target falls to a third, down to 1e-4, and one for the pixels.
+  // rays), a round of estimation (a view of at most 1024 x 512 at the camera's rays) each
+  // time the unshot target falls to a third, down to 1e-4, and one for the pixels at the
+  // tolerance's rays.
   double rounds = 0;
   if (s.tolerance > 0) {
-    rounds = 2 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
-    Scene view = rendered;
-    view.camera.width = std::min(view.camera.width, 1024);
-    view.camera.height = std::min(view.camera.height, 512);
+    const double shooting =
+        1 + std::ceil(std::log(std::max(1.0, s.unshot_fraction / 1e-4)) / std::log(3.0));
+    rounds = shooting + 1;
+    auto view_s = [](Scene view) {
+      view.camera.width = std::min(view.camera.width, 1024);
+      view.camera.height = std::min(view.camera.height, 512);
+      return estimate_render_cost(view).render_s;
+    };
     const ErrorEstimateSettings traced;
-    e.solve_s += double(traced.pixels) * traced.paths * 10 * kPerRay_s +
-                 rounds * estimate_render_cost(view).render_s;
+    e.solve_s += double(traced.pixels) * traced.paths * 10 * kPerRay_s + shooting * view_s(scene) +
+                 view_s(rendered);
   }
   e.shots = shots;
   e.solve_terms =
