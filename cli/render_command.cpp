@@ -2,7 +2,6 @@
 
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -79,10 +78,11 @@ void print_summary(const std::string& output, const Image& image, const Scene& s
         "estimated error against path-traced ground truth: %.1f %% +- %.1f %% (tolerance "
         "%.1f %%)\n",
         100 * stats.estimated_error, 100 * stats.estimated_error_se, 100 * scene.solver.tolerance);
-  if (stats.antialias > 0 || !solution.refinements.empty())
-    std::printf("refined: %d x %d rays a pixel, %zu levels of subdivision\n",
-                std::max(scene.camera.antialias, stats.antialias),
-                std::max(scene.camera.antialias, stats.antialias), solution.refinements.size());
+  if (stats.antialias > 0 || !solution.refinements.empty()) {
+    const int n = rendered_antialias(scene, solution);
+    std::printf("refined: %d x %d rays a pixel, %zu levels of subdivision\n", n, n,
+                solution.refinements.size());
+  }
   if (stats.non_diffuse_elements)
     std::printf(
         "non-diffuse: %zu elements (specular transfer in the solve, reflections in "

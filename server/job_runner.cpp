@@ -240,7 +240,7 @@ void JobRunner::Attempt::finish(const Scene& scene, const std::string& scene_jso
   record_.seconds_texture = solution.stats.seconds_texture;
   record_.estimated_error = solution.stats.estimated_error;
   record_.estimated_error_se = solution.stats.estimated_error_se;
-  record_.antialias = std::max(scene.camera.antialias, solution.stats.antialias);
+  record_.antialias = rendered_antialias(scene, solution);
   until_stored([&] { runner_.store_.finish(worker_, record_, &results); });
 }
 

@@ -231,7 +231,6 @@ CostEstimate estimate_cost(const Scene& scene) {
   if (s.tolerance > 0)
     rendered.camera.antialias =
         std::max(rendered.camera.antialias, SolverSettings::kToleranceAntialias);
-  const int levels = s.adaptive_levels;
   CostEstimate e = estimate_render_cost(rendered);
   const std::vector<Part> parts = parts_of(scene);
   double elements = 0, bumpy = 0, patches = 0, shooters = 0, emitters = 0, groups = 0;
@@ -262,14 +261,14 @@ CostEstimate estimate_cost(const Scene& scene) {
       s.texture == TextureMode::None || bumpy == 0 ? 0 : double(MapBasis(s.map).size());
   // Each adaptive level may split every element in four (up to the element limit) and
   // solves again from the start.
-  for (int level = 0; level <= levels; ++level) {
+  for (int level = 0; level <= s.adaptive_levels; ++level) {
     const double scale = std::min(double(1 << (2 * level)), Limits::kMaxElements / elements);
     const double n = elements * std::max(1.0, scale), nb = bumpy * std::max(1.0, scale);
     e.setup_s += kSetupPerElement_s * n;
     double shot_s = hemicube_s + kPerElement_s * n + kPerGroup_s * groups;
     if (s.texture == TextureMode::Shoot) shot_s += kPerMapValue_s * nb * map_values;
     e.solve_s += shots * shot_s + near_s + specular_s;
-    if (level == levels && s.texture == TextureMode::Gather)
+    if (level == s.adaptive_levels && s.texture == TextureMode::Gather)
       e.solve_s += nb * (hemicube_s + kPerElement_s * n);  // a hemi-cube per bumpy vertex
   }
   e.solve_s += e.setup_s;
@@ -296,7 +295,8 @@ CostEstimate estimate_cost(const Scene& scene) {
       count(elements) + " elements" +
       (groups > 0 ? " (" + count(groups) + " groups)" : std::string()) + ", " + count(patches) +
       " patches, about " + count(shots) + " shots at hemi-cube " + count(s.hemicube_resolution) +
-      (levels > 0 ? ", " + count(levels) + " adaptive levels" : std::string()) +
+      (s.adaptive_levels > 0 ? ", " + count(s.adaptive_levels) + " adaptive levels"
+                             : std::string()) +
       (map_values > 0
            ? ", " + count(bumpy) + " bumpy elements x " + count(map_values) + " map values"
            : std::string()) +

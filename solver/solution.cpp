@@ -237,8 +237,7 @@ void count_map_stats(const Scene& scene, Solution& solution) {
 SolutionView::SolutionView(const Scene& scene, const Solution& solution,
                            std::span<const Rgb> radiosity, std::span<const Rgb> direct, bool keep)
     : camera_(scene.camera), materials_(scene.materials) {
-  // A tolerance may have chosen more rays a pixel than the camera asks for (SolveStats).
-  camera_.antialias = std::max(camera_.antialias, solution.stats.antialias);
+  camera_.antialias = rendered_antialias(scene, solution);
   SurfaceDetail detail;
   detail.map = solution.map.get();
   for (const Object& o : scene.objects) detail.object_bump.push_back(o.bump);
@@ -336,6 +335,10 @@ Image SolutionView::render(std::span<const BumpFunction> bumps, std::stop_token 
 
 std::size_t SolutionView::bytes() const {
   return view_->bytes() + reflected_.capacity() * sizeof(Rgb);
+}
+
+int rendered_antialias(const Scene& scene, const Solution& solution) {
+  return std::max(scene.camera.antialias, solution.stats.antialias);
 }
 
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop) {

@@ -109,6 +109,10 @@ std::vector<Rgb> vertex_light(const Scene& scene, const Solution& solution);
 // reflectance. Needs solution.map.
 std::vector<Rgb> map_light(const Scene& scene, const Solution& solution);
 
+// The rays a pixel across `solution`'s images use: the camera's, or more where a tolerance
+// chose them (SolveStats::antialias).
+int rendered_antialias(const Scene& scene, const Solution& solution);
+
 // One image: SolutionView(scene, solution, false).render(scene.bumps, stop).
 Image render(const Scene& scene, const Solution& solution, std::stop_token stop = {});
 // The same for one refinement step (previews).
