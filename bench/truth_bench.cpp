@@ -14,7 +14,9 @@
 // curve). --width W renders at W pixels across (the camera's aspect kept), to match a
 // reference of that size. A scene with an object named "floor" also gets the floor's
 // speckle: the high-pass of bumprad's image minus the reference's (truth_metrics.h), and,
-// with --noise-reference, the reference's own taken out.
+// with --noise-reference, the reference's own taken out. --estimator-seeds K estimates
+// bumprad's image with the error estimator (error_estimate.h) at seeds 1..K, to set its
+// spread beside the measured error.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,6 +29,7 @@
 #include "common/args.h"
 #include "common/stopwatch.h"
 #include "protocol/scene_source.h"
+#include "solver/render/error_estimate.h"
 #include "solver/render/path_tracer.h"
 #include "solver/scene/camera.h"
 #include "solver/scene/mesh.h"
@@ -36,12 +39,12 @@
 
 constexpr const char* kUsage =
     "usage: bumprad-bench-truth SCENE [--spp N] [--reference REF.exr] [--noise-reference "
-    "REF2.exr] [--width W] [--no-path-tracer]\n";
+    "REF2.exr] [--width W] [--no-path-tracer] [--estimator-seeds K]\n";
 
 int main(int argc, char** argv) {
   using namespace bumprad;
   std::string source, cache, second;
-  int spp = 1024, width = 0;
+  int spp = 1024, width = 0, estimator_seeds = 0;
   bool skip_curve = false;
   std::vector<std::string> positional;
   ArgParser()
@@ -50,6 +53,7 @@ int main(int argc, char** argv) {
       .text({"--noise-reference"}, second)
       .integer({"--width"}, width, 8, 8192)
       .toggle({"--no-path-tracer"}, skip_curve)
+      .integer({"--estimator-seeds"}, estimator_seeds, 0, 64)
       .positional(positional, 1)
       .parse_or_exit(argc, argv, kUsage);
   if (positional.empty()) {
@@ -135,6 +139,25 @@ int main(int argc, char** argv) {
           "%.2f%% off\n",
           second.empty() ? "from the path tracer's curve" : "from its second seed", 100 * noise,
           100 * without_noise(c.surfaces, noise));
+    // The estimator's own spread over its seeds (each a different random set of pixels).
+    double sum = 0, sum2 = 0;
+    for (int seed = 1; seed <= estimator_seeds; ++seed) {
+      ErrorEstimateSettings settings;
+      settings.seed = std::uint64_t(seed);
+      const ErrorEstimator estimator(scene, *solution.mesh, *solution.rays, settings);
+      const ErrorEstimate e = estimator.estimate(render(estimator.view(), solution));
+      std::printf("  estimator seed %d: %.2f%% +- %.2f%% (%.1f s)\n", seed, 100 * e.relative_rms,
+                  100 * e.standard_error, e.seconds);
+      sum += e.relative_rms;
+      sum2 += e.relative_rms * e.relative_rms;
+    }
+    if (estimator_seeds > 1) {
+      const double mean = sum / estimator_seeds;
+      std::printf("estimator over %d seeds: mean %.2f%%, spread (sd) %.2f%%\n", estimator_seeds,
+                  100 * mean,
+                  100 * std::sqrt(std::max(0.0, sum2 / estimator_seeds - mean * mean) *
+                                  estimator_seeds / (estimator_seeds - 1)));
+    }
     // Speckle on the floor (the object named so, if any): bumprad's high-pass against the
     // reference's, whose own noise the second seed measures.
     const auto floor = std::find_if(scene.objects.begin(), scene.objects.end(),

@@ -82,6 +82,7 @@ ErrorEstimator::ErrorEstimator(const Scene& scene, const Mesh& mesh, const RaySc
       if (!emitter[std::size_t(y) * std::size_t(c.width) + std::size_t(x)]) lit.push_back({x, y});
   Random random(hash64(settings.seed));
   shuffle(std::span(lit), random);
+  lit_ = double(lit.size());
   lit.resize(std::min(lit.size(), std::size_t(std::max(1, settings.pixels))));
   traced_ = trace_pixels(view_, mesh, rays, lit, {settings.paths, settings.seed + 1});
   trace_seconds_ = seconds_since(t0);
@@ -89,31 +90,32 @@ ErrorEstimator::ErrorEstimator(const Scene& scene, const Mesh& mesh, const RaySc
 
 ErrorEstimate ErrorEstimator::estimate(const Image& image) const {
   auto t0 = Clock::now();
-  // E|a - r'|^2 = |a - r|^2 + var(r') and E|r'|^2 = |r|^2 + var(r') for the traced r'.
-  constexpr int kGroups = 8;
-  double diff[kGroups] = {}, norm[kGroups] = {}, noise[kGroups] = {};
-  for (std::size_t i = 0; i < traced_.size(); ++i) {
+  // E|a - r'|^2 = |a - r|^2 + var(r') and E|r'|^2 = |r|^2 + var(r') for the traced r': per
+  // pixel, x = |a - r'|^2 - var estimates the squared error and y = |r'|^2 - var the
+  // squared norm, each without bias.
+  const std::size_t n = traced_.size();
+  std::vector<double> x(n), y(n);
+  for (std::size_t i = 0; i < n; ++i) {
     const TracedPixel& t = traced_[i];
-    const Rgb a = image.at(t.pixel.x, t.pixel.y);
-    const Rgb d = a - t.radiance;
-    diff[i % kGroups] += glm::dot(d, d);
-    norm[i % kGroups] += glm::dot(t.radiance, t.radiance);
-    noise[i % kGroups] += t.variance;
+    const Rgb d = image.at(t.pixel.x, t.pixel.y) - t.radiance;
+    x[i] = glm::dot(d, d) - t.variance;
+    y[i] = glm::dot(t.radiance, t.radiance) - t.variance;
   }
-  auto relative = [](double d, double n, double v) {
-    return std::sqrt(std::max(0.0, d - v) / std::max(1e-300, n - v));
-  };
+  const double sx = std::accumulate(x.begin(), x.end(), 0.0),
+               sy = std::max(1e-300, std::accumulate(y.begin(), y.end(), 0.0));
+  const double squared = std::max(0.0, sx) / sy;
+  // The ratio's variance, linearised: that of the mean of z = x - squared y over the sample
+  // (drawn from `lit_` pixels without replacement). Each pixel's x carries its traced noise,
+  // so this counts both the draw of pixels and the path tracer's noise.
+  double mean = 0, spread = 0;
+  for (std::size_t i = 0; i < n; ++i) mean += (x[i] - squared * y[i]) / double(n);
+  for (std::size_t i = 0; i < n; ++i) spread += std::pow(x[i] - squared * y[i] - mean, 2);
+  const double var_mean = n > 1 ? spread / double(n - 1) / double(n) * (1 - double(n) / lit_) : 0;
+  const double sd = double(n) * std::sqrt(var_mean) / sy;  // of `squared`
   ErrorEstimate e;
-  e.pixels = int(traced_.size());
-  e.relative_rms = relative(std::accumulate(diff, diff + kGroups, 0.0),
-                            std::accumulate(norm, norm + kGroups, 0.0),
-                            std::accumulate(noise, noise + kGroups, 0.0));
-  double spread = 0;
-  for (int g = 0; g < kGroups; ++g) {
-    const double r = relative(diff[g], norm[g], noise[g]) - e.relative_rms;
-    spread += r * r;
-  }
-  e.standard_error = std::sqrt(spread / (kGroups - 1)) / std::sqrt(double(kGroups));
+  e.pixels = int(n);
+  e.relative_rms = std::sqrt(squared);
+  e.standard_error = 0.5 * (std::sqrt(squared + sd) - std::sqrt(std::max(0.0, squared - sd)));
   e.seconds = trace_seconds_ + seconds_since(t0);
   return e;
 }
