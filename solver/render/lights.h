@@ -42,18 +42,18 @@ struct DirectForm {
   }
 };
 
-// The shadow rays of one hit (Lights::direct()): `count` of them, to points of each source
-// taken from a (0,2)-sequence shifted by `scramble`. The hits of one pixel share its scramble
-// and each takes its own blocks of the sequence (this is hit `hit` of `hits`), so that
-// together they stratify a source as one net of hits x count points: over a penumbra a pixel
-// then averages its rays as well spread as that many can be, where a shift of each hit's own
-// would leave `hits` nets of `count` points each, and twice the noise. The view pass and the
-// map's vertices use one scramble everywhere, so that neighbours differ as the light does
-// rather than as their points do.
+// The shadow rays of one hit (Lights::direct()) where it lies in a penumbra: 4 x `count` of
+// them, to points of each source taken from a (0,2)-sequence shifted by `scramble` (a point
+// that probes tell sees every source whole, or none, casts no more). The hits of one pixel
+// share its scramble and each takes its own block of the sequence (this is hit `hit`), so
+// that together they stratify a source as one net: over a penumbra a pixel then averages its
+// rays as well spread as that many can be, where a shift of each hit's own would leave a net
+// a hit, and twice the noise. The view pass and the map's vertices use one scramble
+// everywhere, so that neighbours differ as the light does rather than as their points do.
 struct ShadowRays {
   int count = 4;
   std::uint64_t scramble = 0;
-  std::uint32_t hit = 0, hits = 1;
+  std::uint32_t hit = 0;
 };
 
 class Lights {
@@ -80,9 +80,10 @@ class Lights {
   // for an image), comes from `shadow` rays spread over the emitters and images by their
   // contribution to the geometric surface (`geometric`, the element's own normal: light below
   // it is hidden, and the rays leave along it), to stratified points of them (a scrambled
-  // (0,2)-sequence over their elements by area), so a point that sees them fully gets the
-  // exact value without noise, and penumbrae are smoother than from independent points. No
-  // ray depends on `normal`: a bump changes F alone.
+  // (0,2)-sequence over their elements by area). Rays to each emitter surface's corners and
+  // centre first tell whether the point sees it whole or not at all: it then gets the exact
+  // value without noise, and only penumbrae cast the stratified rays. No ray depends on
+  // `normal`: a bump changes F alone.
   Rgb direct(const Vec3& x, const Vec3& normal, const Vec3& geometric, const RayScene& rays,
              const ShadowRays& shadow) const;
   // The same rays' verdict kept for any normal to come (DirectForm): direct() and
@@ -149,8 +150,9 @@ class Lights {
     Rgb emission;
     double weight;  // channel sum of E
     Vec3 point, normal;
-    Vec3 centre;    // of area
-    double radius;  // the farthest outline corner from the centre
+    Vec3 centre;               // of area
+    double radius;             // the farthest outline corner from the centre
+    std::uint32_t probes = 0;  // its probe set (make_probe_sets())
   };
   // An emitter group, or one of its elements, or either's image in a mirror, as a point sees
   // it for direct().
@@ -163,6 +165,11 @@ class Lights {
     double share;  // k_s E F, channel sum: how many rays it gets
   };
   double seen_from(const Vec3& x, const Vec3& normal, std::vector<Seen>& seen) const;
+  void make_probe_sets();
+  void add_probe_set(std::span<const std::size_t> members, std::span<const Vec3> corners);
+  // 1 where shadow rays from `from` to the points of s's group's probe set (to their images
+  // in s's mirror) all arrive, 0 where none does, -1 where they disagree: a penumbra.
+  int probe(const Seen& s, const Vec3& from, const Vec3& geometric, const RayScene& rays) const;
   // A source seen and the share of it that shadow rays found visible (> 0).
   struct Visible {
     Seen seen;
@@ -193,8 +200,9 @@ class Lights {
   std::vector<PunctualSource> punctual_;  // the lights and their images in mirrors_
   std::vector<Emitter> emitters_;
   std::vector<Group> groups_;
-  std::vector<double> cumulative_;  // by power, normalised
-  double total_power_ = 0;          // sum of area times E's channel sum
+  std::vector<std::vector<Vec3>> probe_sets_;  // each: a centre, then corners
+  std::vector<double> cumulative_;             // by power, normalised
+  double total_power_ = 0;                     // sum of area times E's channel sum
   double epsilon_;
 };
 

@@ -371,7 +371,7 @@ struct ViewPass::Impl {
         // ViewPass.PenumbraeHaveNoSpeckle).
         const std::uint32_t index = std::uint32_t(sy * k + sx);
         const std::uint64_t seed = hash64(pixel ^ index);
-        const ShadowRays shadow{camera_.shadow_rays, 0, index, std::uint32_t(k * k)};
+        const ShadowRays shadow{camera_.shadow_rays, 0, index};
         const std::size_t i = first + index;
         DirectForm* form = tracer_.has_lights() ? &row.forms[i] : nullptr;
         std::uint32_t surface = kNoSurface;

@@ -6,6 +6,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "solver/util/frame.h"
+
 namespace bumprad {
 
 std::span<const Vec3> element_corners(const Mesh& mesh, const Element& e,
@@ -114,6 +116,33 @@ double ray_epsilon(const Mesh& mesh) {
   for (int k = 0; k < 3; ++k)
     extent = std::max({extent, std::abs(mesh.bounds_min[k]), std::abs(mesh.bounds_max[k])});
   return 4e-6 * extent;
+}
+
+std::vector<Vec3> convex_hull(std::span<const Vec3> points, const Vec3& normal) {
+  const Frame f = frame_about(normal);
+  std::vector<Vec3> sorted(points.begin(), points.end());
+  const auto local = [&](const Vec3& p) { return glm::dvec2(glm::dot(p, f.x), glm::dot(p, f.y)); };
+  std::sort(sorted.begin(), sorted.end(), [&](const Vec3& a, const Vec3& b) {
+    const glm::dvec2 la = local(a), lb = local(b);
+    return la.x < lb.x || (la.x == lb.x && la.y < lb.y);
+  });
+  if (sorted.size() < 3) return sorted;
+  const auto turn = [&](const Vec3& o, const Vec3& a, const Vec3& b) {
+    const glm::dvec2 u = local(a) - local(o), v = local(b) - local(o);
+    return u.x * v.y - u.y * v.x;
+  };
+  std::vector<Vec3> hull(2 * sorted.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < sorted.size(); ++i) {  // lower chain
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  for (std::size_t i = sorted.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], sorted[i]) <= 0) --k;
+    hull[k++] = sorted[i];
+  }
+  hull.resize(k - 1);
+  return hull;
 }
 
 bool degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {

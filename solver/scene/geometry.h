@@ -55,6 +55,10 @@ SurfaceAt surface_at(const Mesh& mesh, const Element& element, double u, double 
 
 // Whether triangle (a, b, c) has no area to speak of: its cross product under 1e-12 of its
 // longest edge squared. Scene meshes refuse such triangles; imported models drop them.
+// The corners of the convex hull of points that lie in one plane, whose normal is `normal`
+// (Andrew's monotone chain in the plane).
+std::vector<Vec3> convex_hull(std::span<const Vec3> points, const Vec3& normal);
+
 bool degenerate_triangle(const Vec3& a, const Vec3& b, const Vec3& c);
 
 // `m` turned by `degrees` about x, then y, then z (boxes' rotation_deg, models' transforms).

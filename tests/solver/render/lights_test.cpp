@@ -6,6 +6,7 @@
 // standard errors of the sample counts used.
 #include "solver/render/lights.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -52,6 +53,21 @@ struct Room {
     const std::array<Vec3, 4> part = {Vec3(x0, -0.5, 1), Vec3(x0, 0.5, 1), Vec3(0.5, 0.5, 1),
                                       Vec3(0.5, -0.5, 1)};
     return kE * point_to_polygon(x, n, part);
+  }
+
+  // What shadow rays to points of the lamp's elements (of `size`) chosen by area find on
+  // average at x behind the blocker: each element's E F times the share of its area with
+  // x >= x0.
+  double area_weighted(const Vec3& x, double x0, double size) const {
+    double sum = 0;
+    for (double a = -0.5; a < 0.5 - 1e-9; a += size)
+      for (double b = -0.5; b < 0.5 - 1e-9; b += size) {
+        const std::array<Vec3, 4> e = {Vec3(a, b, 1), Vec3(a, b + size, 1),
+                                       Vec3(a + size, b + size, 1), Vec3(a + size, b, 1)};
+        sum += kE * point_to_polygon(x, Vec3(0, 0, 1), e) *
+               std::clamp((a + size - std::max(a, x0)) / size, 0.0, 1.0);
+      }
+    return sum;
   }
 };
 
@@ -195,11 +211,42 @@ TEST(Lights, PenumbraeAreSmooth) {
   EXPECT_LT(std::sqrt(error / norm), 0.6 * std::sqrt(random_error / norm));
 }
 
+// The edge of a penumbra: floor points x in [0.40, 0.49] where the blocker hides a strip of
+// the lamp 1-10 % wide along its side (x < -x). When the first of a few stratified points
+// decided whether a point lay in a penumbra, they mostly missed such a strip and read the
+// point as wholly lit: a bright band along every penumbra, a bias that no count of seeds
+// averages out. Shadow rays to the lamp's corners find the strip whatever its width, and
+// the penumbra's rays, at a random shift, are then unbiased but for the area weighting
+// (Lights.APartlyHiddenEmitterGivesItsVisiblePart: a little dark this near the lamp). Mean
+// signed error over the row and 40 seeds a point, relative, at the view pass's 4 rays: its
+// standard error about 0.1 %.
+TEST(Lights, APenumbrasEdgeIsNotReadAsWhollyLit) {
+  const Vec3 up(0, 0, 1);
+  const Room room(0.25, /*blocker=*/true);
+  const Lights lights(room.mesh, room.scene.materials);
+  double bias = 0;
+  constexpr int kPoints = 46, kSeeds = 40;
+  for (int k = 0; k < kPoints; ++k) {
+    const Vec3 x(0.40 + 0.002 * k, 0.1, 0);
+    const double exact = room.exact(x, up, -x.x);
+    for (int seed = 0; seed < kSeeds; ++seed) {
+      const ShadowRays shadow{4, hash64(std::uint64_t(k * kSeeds + seed))};
+      bias += (lights.direct(x, up, up, *room.rays, shadow).g - exact) / exact;
+    }
+  }
+  bias /= kPoints * kSeeds;
+  // Measured: -0.51 % (-0.5 % at 4,000 seeds a point); with the first 4 points deciding,
+  // +1.4 %.
+  EXPECT_LT(bias, 0.002);
+  EXPECT_GT(bias, -0.01);
+}
+
 // A pixel's hits share one sequence, each taking its own blocks of it (ShadowRays): across
 // the same penumbra, the mean of a pixel's 4 hits (at one point, so that only the shadow
 // rays differ) against the mean of 4 hits that each shift the sequence their own way, as
-// hits did before they shared it; relative RMS over the row, for a lamp of one element and
-// of 16.
+// hits did before they shared it; relative RMS over the row about what the rays find on
+// average (the area weighting's bias, which both share, left out), for a lamp of one
+// element and of 16.
 TEST(Lights, APixelsHitsStratifyTheLightTogether) {
   const Vec3 up(0, 0, 1);
   for (double size : {1.0, 0.25}) {
@@ -209,20 +256,19 @@ TEST(Lights, APixelsHitsStratifyTheLightTogether) {
     double shared = 0, own = 0, norm = 0;
     for (int k = 0; k <= 400; ++k) {
       const Vec3 x(-0.45 + 0.9 * k / 400, 0.1, 0);
-      const double exact = room.exact(x, up, -x.x);
+      const double exact = room.area_weighted(x, -x.x, size);
       double together = 0, apart = 0;
       for (std::uint32_t hit = 0; hit < kHits; ++hit) {
-        together += lights.direct(x, up, up, *room.rays, ShadowRays{4, hash64(k), hit, kHits}).g;
+        together += lights.direct(x, up, up, *room.rays, ShadowRays{4, hash64(k), hit}).g;
         apart += lights.direct(x, up, up, *room.rays, ShadowRays{4, hash64(k * kHits + hit)}).g;
       }
       shared += std::pow(together / kHits - exact, 2);
       own += std::pow(apart / kHits - exact, 2);
       norm += exact * exact;
     }
-    // Measured: 0.085 against 0.091 (one element: what is left is mostly the area
-    // weighting's bias, which both share), 0.095 against 0.116 (16 elements, one ray each,
-    // where the hits' nets stratify each element 4-fold).
-    EXPECT_LT(std::sqrt(shared / norm), (size == 1 ? 0.97 : 0.9) * std::sqrt(own / norm)) << size;
+    // Measured: 0.028 against 0.045 (one element, 16 rays a hit), 0.030 against 0.039 (16
+    // elements, one ray each a hit, where the hits' nets stratify each element 4-fold).
+    EXPECT_LT(std::sqrt(shared / norm), 0.9 * std::sqrt(own / norm)) << size;
   }
 }
 
