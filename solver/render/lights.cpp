@@ -30,16 +30,17 @@ std::pair<std::size_t, double> pick(std::span<const double> cumulative, double t
 // element nearer.
 constexpr double kGroupReach = 8;
 
-// Whether a point lies in a penumbra is probed first with shadow rays to the centre and the
-// corners of each emitter group it sees: the straight edge of an occluder that covers any
-// part of an emitter covers one of its corners, however small the part. The first of a few
-// stratified points, which decided it before, left a band along every penumbra's edges read
-// as wholly lit or wholly dark (the part that no point fell in): cornell at 256 x 256, 4 x 4
-// rays a pixel and 7,804 elements was 1.05 % off a 2,048-path reference with 4 first points,
-// 0.78 % with 8, 0.78 % with the probes. Points that the probes tell are wholly lit (or
-// dark) take the exact value; the others cast kPenumbraRays times ShadowRays::count
-// stratified rays. The corners are pulled this far toward the centre, off the creases a
-// lamp may share with a ceiling or wall.
+// Whether a point lies in a penumbra is probed first with shadow rays to the centre and to
+// the corners of the convex hull of each emitter surface it sees (make_probe_sets()): the
+// straight edge of an occluder that covers any part of an emitter covers one of them,
+// however small the part. The first of a few stratified points, which decided it before,
+// left a band along every penumbra's edges read as wholly lit or wholly dark (the part that
+// no point fell in): cornell at 256 x 256, 4 x 4 rays a pixel and 7,804 elements was 1.05 %
+// off a 2,048-path reference with 4 first points, 0.78 % with 8, 0.79 % with the probes.
+// Points that the probes tell are wholly lit (or dark) take the exact value; the others
+// cast kPenumbraRays times ShadowRays::count stratified rays. The corners are pulled
+// kProbeInset of the way toward the centre, off the creases a lamp may share with a ceiling
+// or wall.
 constexpr int kPenumbraRays = 4;
 constexpr double kProbeInset = 0.01;
 // Probes cost five rays or more a surface: beyond this many surfaces (and images) a point
@@ -412,7 +413,7 @@ int Lights::probe(const Seen& s, const Vec3& from, const Vec3& geometric,
 void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, const RayScene& rays,
                      const ShadowRays& shadow, std::vector<Visible>& out) const {
   thread_local std::vector<Seen> seen;
-  thread_local std::vector<int> told;                  // probe() of each one's group
+  thread_local std::vector<int> told;                  // probe() of each one's probe set
   thread_local std::vector<std::size_t> first, parts;  // its group's first in `seen`; its parts
   out.clear();
   const double total = seen_from(x, geometric, seen);
