@@ -3,17 +3,21 @@
 # emissive panel and exports it as glTF (bench/cycles/room.py), Cycles renders that file twice
 # at two seeds (bench/cycles/render.py), and bumprad-bench-truth renders the same file at
 # bumprad's defaults and measures it, and bumprad's own path tracer, against Cycles.
-#   scripts/cycles.sh [--spp 4096] [--size 256] [--out out/cycles]
+#   scripts/cycles.sh [--spp 4096] [--size 256] [--out out/cycles] [--scene SCENE.json]
+# With --scene, a bumprad scene file of quads (scenes/cornell.json) instead: Blender builds it
+# as it stands (bench/cycles/bumprad_scene.py) and bumprad renders the file itself.
 # Installs Blender (Debian's) when missing. About 20 minutes on 2 cores at the defaults.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-spp=4096 size=256 out=out/cycles
+spp=4096 size=256 out=out/cycles scene=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --spp) spp=$2; shift 2 ;;
     --size) size=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    *) echo "usage: scripts/cycles.sh [--spp N] [--size PIXELS] [--out DIR]" >&2; exit 2 ;;
+    --scene) scene=$2; shift 2 ;;
+    *) echo "usage: scripts/cycles.sh [--spp N] [--size PIXELS] [--out DIR] [--scene S.json]" >&2
+      exit 2 ;;
   esac
 done
 if ! command -v blender >/dev/null || ! python3 -c "import numpy" 2>/dev/null; then
@@ -26,6 +30,17 @@ fi
 scripts/setup.sh
 mkdir -p "$out"
 blender=(blender -b --factory-startup --python-exit-code 1 --python)
+if [[ -n "$scene" ]]; then
+  for seed in 1 2; do
+    start=$SECONDS
+    "${blender[@]}" bench/cycles/render.py -- "$scene" "$out/cycles-scene-$seed.exr" \
+      --spp "$spp" --size "$size" --seed "$seed" >>"$out/blender.log" 2>&1
+    echo "Cycles ($scene, seed $seed): $spp samples a pixel at $size across, $((SECONDS - start)) s"
+  done
+  BUMPRAD_TRUTH_IMAGES="$out/scene" build/bin/bumprad-bench-truth "$scene" --width "$size" \
+    --spp 1024 --reference "$out/cycles-scene-1.exr" --noise-reference "$out/cycles-scene-2.exr"
+  exit 0
+fi
 "${blender[@]}" bench/cycles/room.py -- "$out/room.glb" --size "$size" >"$out/blender.log" 2>&1
 for seed in 1 2; do
   for materials in lambert principled; do

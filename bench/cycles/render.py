@@ -1,13 +1,15 @@
 # Renders a glTF file with Cycles, as an independent reference for bumprad: Blender's own glTF
-# importer reads the file, Cycles path-traces it (no denoising, no clamping, no adaptive
+# importer reads the file (or, for a bumprad scene file, bumprad_scene.py builds it), Cycles
+# path-traces it (no denoising, no clamping, no adaptive
 # sampling, a box filter one pixel wide, black world) and the image is written as linear EXR:
 # radiance, as bumprad's images are.
-#   blender -b --factory-startup --python bench/cycles/render.py -- MODEL.glb OUT.exr \
+#   blender -b --factory-startup --python bench/cycles/render.py -- MODEL.(glb|json) OUT.exr \
 #       [--spp 1024] [--size 256] [--seed 1] [--materials lambert|principled]
 # --materials lambert (the default) renders each metallic-0 Principled BSDF as the Lambert
 # surface bumprad reads it as (docs/import.md: a dielectric's specular coat is not modelled),
 # keeping its base colour, normal map and emission; principled keeps Cycles' Principled BSDF,
 # which measures what that reading leaves out.
+import os
 import sys
 
 import bpy
@@ -28,9 +30,16 @@ spp, size, seed = option("--spp", 1024), option("--size", 256), option("--seed",
 materials = option("--materials", "lambert")
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
-bpy.ops.import_scene.gltf(filepath=model)
 scene = bpy.context.scene
-scene.camera = next(o for o in scene.objects if o.type == "CAMERA")
+height = size
+if model.endswith(".json"):
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import bumprad_scene
+
+    height = bumprad_scene.build(model, size)
+else:
+    bpy.ops.import_scene.gltf(filepath=model)
+    scene.camera = next(o for o in scene.objects if o.type == "CAMERA")
 
 
 def as_lambert(m):
@@ -59,7 +68,7 @@ def as_lambert(m):
     links.new(add.outputs[0], output.inputs["Surface"])
 
 
-if materials == "lambert":
+if materials == "lambert" and not model.endswith(".json"):
     for m in bpy.data.materials:
         if m.use_nodes:
             as_lambert(m)
@@ -81,7 +90,7 @@ cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0
 cycles.pixel_filter_type = "BOX"
 cycles.filter_width = 1.0
 
-scene.render.resolution_x = scene.render.resolution_y = size
+scene.render.resolution_x, scene.render.resolution_y = size, height
 scene.render.resolution_percentage = 100
 scene.render.image_settings.file_format = "OPEN_EXR"
 scene.render.image_settings.color_depth = "32"
