@@ -82,7 +82,6 @@ ErrorEstimator::ErrorEstimator(const Scene& scene, const Mesh& mesh, const RaySc
       if (!emitter[std::size_t(y) * std::size_t(c.width) + std::size_t(x)]) lit.push_back({x, y});
   Random random(hash64(settings.seed));
   shuffle(std::span(lit), random);
-  lit_ = double(lit.size());
   lit.resize(std::min(lit.size(), std::size_t(std::max(1, settings.pixels))));
   traced_ = trace_pixels(view_, mesh, rays, lit, {settings.paths, settings.seed + 1});
   trace_seconds_ = seconds_since(t0);
@@ -104,13 +103,14 @@ ErrorEstimate ErrorEstimator::estimate(const Image& image) const {
   const double sx = std::accumulate(x.begin(), x.end(), 0.0),
                sy = std::max(1e-300, std::accumulate(y.begin(), y.end(), 0.0));
   const double squared = std::max(0.0, sx) / sy;
-  // The ratio's variance, linearised: that of the mean of z = x - squared y over the sample
-  // (drawn from `lit_` pixels without replacement). Each pixel's x carries its traced noise,
-  // so this counts both the draw of pixels and the path tracer's noise.
+  // The ratio's variance, linearised: that of the mean of z = x - squared y over the sample.
+  // Each pixel's x carries its traced noise, so this counts both the draw of pixels and the
+  // path tracer's noise (and so takes no finite-population correction: a view traced whole
+  // still has the latter).
   double mean = 0, spread = 0;
   for (std::size_t i = 0; i < n; ++i) mean += (x[i] - squared * y[i]) / double(n);
   for (std::size_t i = 0; i < n; ++i) spread += std::pow(x[i] - squared * y[i] - mean, 2);
-  const double var_mean = n > 1 ? spread / double(n - 1) / double(n) * (1 - double(n) / lit_) : 0;
+  const double var_mean = n > 1 ? spread / double(n - 1) / double(n) : 0;
   const double sd = double(n) * std::sqrt(var_mean) / sy;  // of `squared`
   ErrorEstimate e;
   e.pixels = int(n);

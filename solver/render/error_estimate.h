@@ -54,7 +54,6 @@ class ErrorEstimator {
  private:
   Scene view_;
   std::vector<TracedPixel> traced_;
-  double lit_ = 0;  // pixels the sample was drawn from
   double trace_seconds_ = 0;
 };
 
