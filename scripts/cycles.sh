@@ -30,31 +30,28 @@ fi
 scripts/setup.sh
 mkdir -p "$out"
 blender=(blender -b --factory-startup --python-exit-code 1 --python)
+# A bumprad scene file is Lambert already: only the glTF room is rendered a second way, with
+# Cycles' Principled BSDF.
 if [[ -n "$scene" ]]; then
-  for seed in 1 2; do
-    start=$SECONDS
-    "${blender[@]}" bench/cycles/render.py -- "$scene" "$out/cycles-scene-$seed.exr" \
-      --spp "$spp" --size "$size" --seed "$seed" >>"$out/blender.log" 2>&1
-    echo "Cycles ($scene, seed $seed): $spp samples a pixel at $size across, $((SECONDS - start)) s"
-  done
-  BUMPRAD_TRUTH_IMAGES="$out/scene" build/bin/bumprad-bench-truth "$scene" --width "$size" \
-    --spp 1024 --reference "$out/cycles-scene-1.exr" --noise-reference "$out/cycles-scene-2.exr"
-  exit 0
+  model=$scene kinds=(lambert)
+else
+  model=$out/room.glb kinds=(lambert principled)
+  "${blender[@]}" bench/cycles/room.py -- "$model" --size "$size" >"$out/blender.log" 2>&1
 fi
-"${blender[@]}" bench/cycles/room.py -- "$out/room.glb" --size "$size" >"$out/blender.log" 2>&1
 for seed in 1 2; do
-  for materials in lambert principled; do
+  for materials in "${kinds[@]}"; do
     [[ $seed == 2 && $materials == principled ]] && continue
     start=$SECONDS
-    "${blender[@]}" bench/cycles/render.py -- "$out/room.glb" "$out/cycles-$materials-$seed.exr" \
+    "${blender[@]}" bench/cycles/render.py -- "$model" "$out/cycles-$materials-$seed.exr" \
       --spp "$spp" --size "$size" --seed "$seed" --materials "$materials" >>"$out/blender.log" 2>&1
-    echo "Cycles ($materials BSDFs, seed $seed): $spp samples a pixel at ${size}², $((SECONDS - start)) s"
+    echo "Cycles ($materials BSDFs, seed $seed): $spp samples a pixel at $size across, $((SECONDS - start)) s"
   done
 done
-echo "against Cycles with the Lambert surfaces bumprad reads metallic 0 as:"
-BUMPRAD_TRUTH_IMAGES="$out/lambert" build/bin/bumprad-bench-truth "$out/room.glb" \
+echo "against Cycles with Lambert surfaces (a glTF file's metallic 0, as bumprad reads it):"
+BUMPRAD_TRUTH_IMAGES="$out/lambert" build/bin/bumprad-bench-truth "$model" \
   --width "$size" --spp 1024 --reference "$out/cycles-lambert-1.exr" \
   --noise-reference "$out/cycles-lambert-2.exr"
+[[ -n "$scene" ]] && exit 0
 echo "against Cycles with its Principled BSDF (a dielectric's specular coat, Disney diffuse):"
-build/bin/bumprad-bench-truth "$out/room.glb" --width "$size" --no-path-tracer \
+build/bin/bumprad-bench-truth "$model" --width "$size" --no-path-tracer \
   --reference "$out/cycles-principled-1.exr"

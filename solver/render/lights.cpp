@@ -449,11 +449,10 @@ void Lights::visible(const Vec3& x, const Vec3& from, const Vec3& geometric, con
       out.push_back({s, 1});
     } else if (first[k] == k) {
       Seen merged{s.group->elements, s.group->cumulative, s.group, s.mirror, 0, 0};
-      for (std::size_t j = k; j < seen.size(); ++j)
-        if (first[j] == k) {
-          merged.form_factor += seen[j].form_factor;
-          merged.share += seen[j].share;
-        }
+      for (std::size_t j = k; j < seen.size() && first[j] == k; ++j) {  // its parts, together
+        merged.form_factor += seen[j].form_factor;
+        merged.share += seen[j].share;
+      }
       out.push_back({merged, 1});
     }
   };
